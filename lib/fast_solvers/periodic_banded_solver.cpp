@@ -1,0 +1,93 @@
+#include "fast_solvers/periodic_banded_solver.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <stdexcept>
+
+namespace rbc {
+
+PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel)
+    : nx_(nx), rows_(rows), nk_(nx / 2 + 1) {
+  if (nx < 2 || rows < 1) throw std::invalid_argument("PeriodicBandedSolver: empty grid");
+  // Probe: the response of A to a unit value at (0, j') for every row j'.
+  struct Tap { int j, jp, d; double a; };
+  std::vector<Tap> taps;
+  Field e(std::size_t(nx) * rows, 0.0), r(e.size(), 0.0);
+  for (int jp = 0; jp < rows; ++jp) {
+    e.assign(e.size(), 0.0);
+    e[std::size_t(jp) * nx] = 1.0;
+    apply(e, r);
+    for (int j = 0; j < rows; ++j)
+      for (int d = 0; d < nx; ++d)
+        if (double a = r[std::size_t(j) * nx + d]; a != 0.0) {
+          taps.push_back({j, jp, d, a});
+          band_ = std::max(band_, std::abs(j - jp));
+        }
+  }
+  // The symbol Â_k, mode by mode, in banded storage.
+  lu_.assign(std::size_t(nk_) * rows_ * (2 * band_ + 1), cplx(0.0));
+  for (const Tap& t : taps)
+    for (int k = 0; k < nk_; ++k) {
+      const double phase = -2.0 * std::numbers::pi * double(k) * double(t.d) / double(nx_);
+      entry(k, t.j, t.jp) += t.a * cplx(std::cos(phase), std::sin(phase));
+    }
+  if (constant_kernel) {
+    const int last = rows_ - 1;
+    for (int jp = std::max(0, last - band_); jp < rows_; ++jp) entry(0, last, jp) = 0.0;
+    entry(0, last, last) = 1.0;
+  }
+  // LU without pivoting of each banded Â_k (Hermitian positive definite, or made regular above).
+  for (int k = 0; k < nk_; ++k)
+    for (int p = 0; p < rows_; ++p) {
+      const cplx pivot = entry(k, p, p);
+      if (std::abs(pivot) == 0.0) throw std::runtime_error("PeriodicBandedSolver: singular mode");
+      for (int r2 = p + 1; r2 <= std::min(rows_ - 1, p + band_); ++r2) {
+        const cplx l = entry(k, r2, p) / pivot;
+        entry(k, r2, p) = l;
+        for (int c = p + 1; c <= std::min(rows_ - 1, p + band_); ++c) entry(k, r2, c) -= l * entry(k, p, c);
+      }
+    }
+  // One batch of rows real transforms of length nx, planned once.
+  real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
+  spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
+  int n[] = {nx_};
+  forward_ = fftw_plan_many_dft_r2c(1, n, rows_, real_, nullptr, 1, nx_, spec_, nullptr, 1, nk_, FFTW_ESTIMATE);
+  backward_ = fftw_plan_many_dft_c2r(1, n, rows_, spec_, nullptr, 1, nk_, real_, nullptr, 1, nx_, FFTW_ESTIMATE);
+}
+
+PeriodicBandedSolver::~PeriodicBandedSolver() {
+  fftw_destroy_plan(forward_);
+  fftw_destroy_plan(backward_);
+  fftw_free(real_);
+  fftw_free(spec_);
+}
+
+void PeriodicBandedSolver::solve(const double* b, double* x) {
+  std::memcpy(real_, b, sizeof(double) * std::size_t(nx_) * rows_);
+  fftw_execute(forward_);
+  auto* spec = reinterpret_cast<cplx*>(spec_);
+  const int w = 2 * band_ + 1;
+#pragma omp parallel
+  {
+    std::vector<cplx> c(rows_);
+#pragma omp for schedule(static)
+    for (int k = 0; k < nk_; ++k) {
+      const cplx* a = &lu_[std::size_t(k) * rows_ * w];
+      for (int j = 0; j < rows_; ++j) c[j] = spec[std::size_t(j) * nk_ + k];
+      // Forward substitution with the unit lower factor, then back substitution.
+      for (int j = 1; j < rows_; ++j)
+        for (int p = std::max(0, j - band_); p < j; ++p) c[j] -= a[std::size_t(j) * w + (p - j + band_)] * c[p];
+      for (int j = rows_ - 1; j >= 0; --j) {
+        for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) c[j] -= a[std::size_t(j) * w + (q - j + band_)] * c[q];
+        c[j] /= a[std::size_t(j) * w + band_];
+      }
+      for (int j = 0; j < rows_; ++j) spec[std::size_t(j) * nk_ + k] = c[j];
+    }
+  }
+  fftw_execute(backward_);
+  const double scale = 1.0 / nx_;
+  for (std::size_t i = 0, n = std::size_t(nx_) * rows_; i < n; ++i) x[i] = real_[i] * scale;
+}
+
+}  // namespace rbc

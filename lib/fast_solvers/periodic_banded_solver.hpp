@@ -1,0 +1,49 @@
+#pragma once
+// Fast direct solver for A x = b when A is invariant under translation in x1 (periodic, nx nodes)
+// and couples rows j, j' only for |j - j'| <= b (SPEC section 4: "FFT in x1, banded in x2").
+//
+// Because A commutes with the shift in x1, the discrete Fourier transform in x1 block-
+// diagonalises it:  (A x)^_k = Â_k x̂_k,  Â_k[j][j'] = Σ_d a_{j,j'}(d) e^{-2πi k d / nx},
+// where a_{j,j'}(d) is the response in row j, column d, to a unit value at (0, j').
+// We read the symbol off A itself by applying it once to a unit value in each row of column 0
+// (a "probe"), factor every Â_k (Hermitian and banded) by LU once, and then each solve costs one
+// real FFT pair in x1 plus nx/2+1 banded triangular solves.
+//
+// A singular A whose kernel is the constant field (a Neumann problem) is handled at k = 0 by
+// replacing the last equation with x̂_0[rows-1] = 0; the solution is then defined up to the
+// constant, which the caller fixes (e.g. mean-zero pressure).
+#include <complex>
+#include <functional>
+#include <vector>
+
+#include <fftw3.h>
+
+namespace rbc {
+
+class PeriodicBandedSolver {
+ public:
+  using Field = std::vector<double>;  // nx * rows values, x1 fastest
+  using Operator = std::function<void(const Field& in, Field& out)>;
+
+  PeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel);
+  ~PeriodicBandedSolver();
+  PeriodicBandedSolver(const PeriodicBandedSolver&) = delete;
+  PeriodicBandedSolver& operator=(const PeriodicBandedSolver&) = delete;
+
+  // x = A^{-1} b (b and x may alias). For a constant kernel, b must be compatible (zero sum).
+  void solve(const double* b, double* x);
+  int half_bandwidth() const { return band_; }
+  int nx() const { return nx_; }
+  int rows() const { return rows_; }
+
+ private:
+  using cplx = std::complex<double>;
+  int nx_, rows_, nk_, band_ = 0;
+  std::vector<cplx> lu_;  // per mode: rows x (2 band + 1), entry (j, j') at [j*(2b+1) + j'-j+b]
+  double* real_ = nullptr;
+  fftw_complex* spec_ = nullptr;
+  fftw_plan forward_ = nullptr, backward_ = nullptr;
+  cplx& entry(int k, int j, int jp) { return lu_[(std::size_t(k) * rows_ + j) * (2 * band_ + 1) + (jp - j + band_)]; }
+};
+
+}  // namespace rbc

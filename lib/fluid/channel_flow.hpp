@@ -1,0 +1,80 @@
+#pragma once
+// The plasma in the periodic channel: state (u, p, t) and the three fluid steps of the study's
+// Lie scheme (SPEC section 4). The membrane step (2) belongs to the cells and is called between
+// project() and advect() by whoever owns cells; a cell-free channel just leaves it out.
+#include <string>
+
+#include "fluid/diffusion.hpp"
+#include "fluid/quasi_stokes.hpp"
+#include "fluid/wave_like_advection.hpp"
+#include "mesh/channel_mesh.hpp"
+
+namespace rbc {
+
+struct FluidProperties {
+  double density = 1000.0;    // ρ, kg/m³ (plasma, SPEC section 1)
+  double viscosity = 1.2e-3;  // μ, Pa·s
+};
+
+// The driving force of a cell-free Poiseuille flow with mean velocity U0 = Re0 μ / (ρ H):
+// f_p = 12 μ U0 / H² (N/m³).
+double body_force_from_reynolds(double reynolds0, const FluidProperties& fluid, double height);
+
+struct ChannelFlowParams {
+  FluidProperties fluid;
+  double length = 20e-6;      // L, m (period in x1)
+  double height = 10e-6;      // H, m
+  double mesh_size = 0.125e-6;  // h, m
+  double body_force = 0.0;    // f_p along x1, N/m³
+  double wall_velocity[2] = {0.0, 0.0};  // x1-velocity of the bottom and top walls, m/s
+  double dt = 1e-7;           // Δt, s
+  int advection_substeps = 1;  // Q, wave-like substeps per step
+  PressurePreconditioner preconditioner = PressurePreconditioner::schur;
+  double cg_tolerance = 1e-10;  // relative residual of the pressure CG
+  int cg_max_iterations = 200;
+};
+
+// Largest cell-free speed the flow can reach (Poiseuille peak f H²/(8μ) plus the wall speed),
+// m/s, and the advective bound on Δt that follows (Q kAdvectiveCfl h / U_max), s.
+double cell_free_peak_speed(const ChannelFlowParams& p);
+double advective_dt_bound(const ChannelFlowParams& p);
+
+class ChannelFlow {
+ public:
+  explicit ChannelFlow(const ChannelFlowParams& params);
+
+  // Step 1: quasi-Stokes projection (u^{n+1/3}).
+  ProjectionReport project();
+  // Step 3: wave-like advection of u by itself (u^{n+2/3}).
+  void advect();
+  // Step 4: implicit diffusion with the body force and an optional force field (u^{n+1});
+  // advances the clock.
+  void diffuse(const VelocityField* force_field = nullptr);
+  // One step of a cell-free channel: steps 1, 3, 4 (step 2 has nothing to move).
+  ProjectionReport step();
+
+  void set_poiseuille();  // u = the exact cell-free steady profile (for tests and warm starts)
+
+  const ChannelMesh& mesh() const { return mesh_; }
+  const ChannelFlowParams& params() const { return p_; }
+  VelocityField& velocity() { return u_; }
+  const VelocityField& velocity() const { return u_; }
+  const std::vector<double>& pressure() const { return pressure_; }
+  const QuasiStokesProjection& projection() const { return projection_; }
+  double time() const { return t_; }
+  long steps() const { return steps_; }
+
+ private:
+  void apply_wall_velocity();
+  ChannelFlowParams p_;
+  ChannelMesh mesh_;
+  QuasiStokesProjection projection_;
+  WaveLikeAdvection advection_;
+  ImplicitDiffusion diffusion_;
+  VelocityField u_;
+  std::vector<double> pressure_;
+  double t_ = 0.0;
+  long steps_ = 0;
+};
+
+}  // namespace rbc

@@ -1,0 +1,43 @@
+#include "fluid/diffusion.hpp"
+
+namespace rbc {
+
+ImplicitDiffusion::ImplicitDiffusion(const ChannelMesh& mesh, double rho, double mu, double dt)
+    : m_(mesh), rho_(rho), mu_(mu), dt_(dt), rhs_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0) {
+  // The Helmholtz operator on the interior rows j = 1..ny-1 (stored as rows 0..ny-2);
+  // wall neighbours are known values and move to the right-hand side.
+  const int nx = mesh.nx, rows = mesh.ny - 1;
+  const double diag = rho * mesh.h * mesh.h / dt + 4.0 * mu;
+  auto apply = [=](const std::vector<double>& in, std::vector<double>& out) {
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < nx; ++i) {
+        const int ip = (i + 1) % nx, im = (i + nx - 1) % nx;
+        double s = diag * in[r * nx + i] - mu * (in[r * nx + ip] + in[r * nx + im]);
+        if (r > 0) s -= mu * in[(r - 1) * nx + i];
+        if (r + 1 < rows) s -= mu * in[(r + 1) * nx + i];
+        out[r * nx + i] = s;
+      }
+  };
+  solver_ = std::make_unique<PeriodicBandedSolver>(nx, rows, apply, false);
+}
+
+void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], const VelocityField* field) {
+  const int nx = m_.nx, rows = m_.ny - 1;
+  const double h2 = m_.h * m_.h, a = rho_ * h2 / dt_;
+  for (int c = 0; c < 2; ++c) {
+    std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
+    const std::vector<double>* extra = field ? (c == 0 ? &field->u1 : &field->u2) : nullptr;
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t n = m_.v(i, r + 1);
+        double s = a * f[n] + h2 * (body_force[c] + (extra ? (*extra)[n] : 0.0));
+        if (r == 0) s += mu_ * f[m_.v(i, 0)];
+        if (r + 1 == rows) s += mu_ * f[m_.v(i, m_.ny)];
+        rhs_[std::size_t(r) * nx + i] = s;
+      }
+    solver_->solve(rhs_.data(), rhs_.data());
+    std::copy(rhs_.begin(), rhs_.end(), f.begin() + nx);
+  }
+}
+
+}  // namespace rbc

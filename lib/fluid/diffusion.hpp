@@ -1,0 +1,35 @@
+#pragma once
+// Step 4 of the Lie scheme (SPEC section 4) without an obstacle: implicit diffusion with forcing,
+//
+//   ρ ∫ (u^{n+1} − u^{n+2/3})/Δt · v + μ ∫ ∇u^{n+1} : ∇v = ∫ f · v     for all v ∈ W_0h,
+//
+// with u^{n+1} equal to the wall velocity on the walls. With the lumped mass (h² per interior
+// node) and the P1 stiffness (the 5-point Laplacian), each velocity component solves
+//
+//   (ρ h²/Δt + 4μ) u_ij − μ (u_{i±1,j} + u_{i,j±1}) = (ρ h²/Δt) u^{n+2/3}_ij + h² f_ij,
+//
+// a Helmholtz problem solved exactly by FFT in x1 and a tridiagonal solve in x2.
+#include <memory>
+#include <vector>
+
+#include "fast_solvers/periodic_banded_solver.hpp"
+#include "mesh/channel_mesh.hpp"
+
+namespace rbc {
+
+class ImplicitDiffusion {
+ public:
+  ImplicitDiffusion(const ChannelMesh& mesh, double rho, double mu, double dt);
+  // u: u^{n+2/3} in, u^{n+1} out; wall rows of u hold the wall velocities (kept).
+  // force: the uniform body force (N/m³); field: an extra nodal force density (N/m³) or null.
+  void diffuse(VelocityField& u, const double body_force[2], const VelocityField* field);
+  double dt() const { return dt_; }
+
+ private:
+  ChannelMesh m_;
+  double rho_, mu_, dt_;
+  std::unique_ptr<PeriodicBandedSolver> solver_;
+  std::vector<double> rhs_;
+};
+
+}  // namespace rbc

@@ -1,0 +1,60 @@
+#pragma once
+// Step 1 of the Lie scheme (SPEC section 4): the quasi-Stokes projection, ν = 0.
+//
+//   find u ∈ W_0h, p ∈ L²_{h,0}:   ρ ∫ (u − uⁿ)/Δt · v − ∫ p ∇·v = 0,   ∫ q ∇·u = 0.
+//
+// With the lumped mass M and the divergence matrix B (fem/p1_operators.hpp) this is
+//   ρ M (u − uⁿ)/Δt = Bᵀ p,   B u = 0   ⇒   S p = −(ρ/Δt) B uⁿ,   S = B M⁻¹ Bᵀ,
+// then u = uⁿ + (Δt/ρ) M⁻¹ Bᵀ p on the interior nodes (walls keep their Dirichlet values).
+// We solve for the pressure by preconditioned conjugate gradients (the study's Uzawa form),
+// warm-started from the previous step's pressure. S is a fixed stencil on T_2h, so it can be
+// inverted exactly by the fast solver ("schur", one CG iteration); the study's own choice, the
+// Neumann Laplacian of T_2h, is kept as "laplacian". p is mean-zero (lumped weights of T_2h).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fast_solvers/periodic_banded_solver.hpp"
+#include "fem/p1_operators.hpp"
+#include "mesh/channel_mesh.hpp"
+
+namespace rbc {
+
+enum class PressurePreconditioner { schur, laplacian };
+PressurePreconditioner parse_pressure_preconditioner(const std::string& name);  // throws on unknown
+
+struct ProjectionReport {
+  int iterations = 0;
+  double residual = 0;  // ‖r‖ / ‖b‖ at exit
+};
+
+class QuasiStokesProjection {
+ public:
+  QuasiStokesProjection(const ChannelMesh& mesh, PressurePreconditioner pc, double tolerance, int max_iterations);
+
+  // Projects u (in place) onto discretely divergence-free fields; p holds the warm start on
+  // entry and the pressure (Pa) on exit.
+  ProjectionReport project(VelocityField& u, std::vector<double>& p, double rho, double dt);
+
+  // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
+  void divergence(const VelocityField& u, std::vector<double>& div) const;
+  const SparseMatrix& divergence_matrix() const { return B_; }
+  void remove_mean(std::vector<double>& p) const;
+
+ private:
+  void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
+  void precondition(const std::vector<double>& r, std::vector<double>& z);
+
+  ChannelMesh mesh_;
+  SparseMatrix B_, Bt_;            // Bt_ has wall rows removed (interior velocity only)
+  std::vector<double> inv_mass_;   // 1/M on interior nodes, 0 on the walls
+  std::vector<double> weights_;    // lumped weights of T_2h for the mean
+  std::unique_ptr<PeriodicBandedSolver> pc_;
+  double tol_;
+  double row_abs_norm_ = 0;  // ‖(Σ_n |B_qn|)_q‖₂, the scale of round-off in B u
+  int max_it_;
+  // Work vectors, sized once.
+  mutable std::vector<double> vel_, r_, z_, d_, sd_;
+};
+
+}  // namespace rbc

@@ -1,0 +1,252 @@
+// Properties of the study's fluid steps (SPEC sections 1, 4, 9): each test names the property.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "diagnostics/flow_diagnostics.hpp"
+#include "fluid/channel_flow.hpp"
+
+namespace rbc {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The study's narrow channel (SPEC 5.1) on a coarser mesh, so that the test is quick.
+ChannelFlowParams narrow_channel(double h, double dt) {
+  ChannelFlowParams p;
+  p.length = 20e-6;
+  p.height = 10e-6;
+  p.mesh_size = h;
+  p.dt = dt;
+  p.body_force = body_force_from_reynolds(0.5556, p.fluid, p.height);
+  return p;
+}
+
+double max_profile_error(const ChannelFlow& flow, const std::function<double(double)>& exact) {
+  const ChannelMesh& m = flow.mesh();
+  if (!all_finite(flow.velocity())) return INFINITY;
+  double e = 0;
+  for (int j = 0; j <= m.ny; ++j)
+    for (int i = 0; i < m.nx; ++i) {
+      e = std::max(e, std::abs(flow.velocity().u1[m.v(i, j)] - exact(m.y(j))));
+      e = std::max(e, std::abs(flow.velocity().u2[m.v(i, j)]));
+    }
+  return e;
+}
+
+TEST(PoiseuilleFlow, BodyForceFromReynoldsGivesTheStudysMeanVelocity) {
+  // U0 = Re0 μ/(ρ H) = 6.667 cm/s in every experiment (SPEC section 1).
+  const ChannelFlowParams p = narrow_channel(0.5e-6, 1e-7);
+  const double u0 = p.body_force * p.height * p.height / (12 * p.fluid.viscosity);
+  EXPECT_NEAR(u0, 0.066672, 1e-9);
+}
+
+TEST(PoiseuilleFlow, SteadyStateFromRestIsTheParabolaAtTheNodes) {
+  // The 5-point Laplacian differentiates quadratics exactly, so the discrete steady state is the
+  // parabola f x2 (H − x2)/(2μ) at the nodes; its P1 mean (trapezoid rule) is U0 (1 − h²/H²).
+  const ChannelFlowParams p = narrow_channel(0.5e-6, 2e-7);
+  ChannelFlow flow(p);
+  const double H = p.height, f = p.body_force, mu = p.fluid.viscosity;
+  // The slowest mode decays like exp(−π² ν t / H²); 3e-4 s leaves less than 1e-13 of it.
+  while (flow.time() < 3e-4) flow.step();
+  const double peak = f * H * H / (8 * mu);
+  EXPECT_LT(max_profile_error(flow, [&](double y) { return f * y * (H - y) / (2 * mu); }), 1e-10 * peak);
+  const double u0 = f * H * H / (12 * mu);
+  const double hH = p.mesh_size / H;
+  EXPECT_NEAR(mean_velocity(flow.mesh(), flow.velocity()), u0 * (1 - hH * hH), 1e-10 * u0);
+}
+
+TEST(PoiseuilleFlow, ParabolaIsAFixedPointOfTheLieStep) {
+  ChannelFlow flow(narrow_channel(0.5e-6, 1e-7));
+  flow.set_poiseuille();
+  const VelocityField u0 = flow.velocity();
+  for (int n = 0; n < 20; ++n) flow.step();
+  double e = 0;
+  for (std::size_t k = 0; k < u0.u1.size(); ++k) e = std::max(e, std::abs(flow.velocity().u1[k] - u0.u1[k]));
+  EXPECT_LT(e, 1e-12 * max_speed(u0));
+}
+
+// Start-up of plane Poiseuille flow from rest (the Fourier-series solution):
+//   u(y, t) = f y (H − y)/(2μ) − Σ_{n odd} 4 f H²/(μ π³ n³) sin(nπy/H) exp(−n²π² ν t / H²).
+double startup_exact(double y, double t, double f, double H, double mu, double nu) {
+  double u = f * y * (H - y) / (2 * mu);
+  for (int n = 1; n < 400; n += 2)
+    u -= 4 * f * H * H / (mu * kPi * kPi * kPi * n * n * n) * std::sin(n * kPi * y / H) *
+         std::exp(-n * n * kPi * kPi * nu * t / (H * H));
+  return u;
+}
+
+TEST(PoiseuilleFlow, StartupFromRestConvergesToFourierSeriesFirstOrderInTime) {
+  // Backward Euler in time: the error at fixed t halves with Δt (order 1); the spatial error of
+  // the 5-point Laplacian at h = H/40 is far below the time error at these Δt.
+  const double t_end = 2e-5;
+  std::vector<double> err;
+  for (double dt : {4e-7, 2e-7, 1e-7}) {
+    const ChannelFlowParams p = narrow_channel(0.25e-6, dt);
+    ChannelFlow flow(p);
+    for (long n = 0, steps = std::lround(t_end / dt); n < steps; ++n) flow.step();
+    const double nu = p.fluid.viscosity / p.fluid.density;
+    err.push_back(max_profile_error(flow, [&](double y) {
+      return startup_exact(y, flow.time(), p.body_force, p.height, p.fluid.viscosity, nu);
+    }));
+  }
+  const double order1 = std::log2(err[0] / err[1]), order2 = std::log2(err[1] / err[2]);
+  EXPECT_NEAR(order1, 1.0, 0.15);
+  EXPECT_NEAR(order2, 1.0, 0.15);
+  EXPECT_LT(err[2], 0.01 * 0.1);  // below 1 % of the 0.1 m/s peak at the finest Δt
+}
+
+TEST(CouetteFlow, MovingWallsGiveTheLinearProfile) {
+  ChannelFlowParams p = narrow_channel(0.5e-6, 2e-7);
+  p.body_force = 0.0;
+  p.wall_velocity[0] = -0.02;
+  p.wall_velocity[1] = 0.05;
+  ChannelFlow flow(p);
+  while (flow.time() < 3e-4) flow.step();
+  EXPECT_LT(max_profile_error(flow, [&](double y) { return -0.02 + 0.07 * y / p.height; }), 1e-10 * 0.05);
+}
+
+TEST(QuasiStokes, DiscreteDivergenceAfterProjectionIsBelowTheCgTolerance) {
+  // B u^{n+1/3} = −(Δt/ρ) r, so ‖B u^{n+1/3}‖ ≤ tol ‖B uⁿ‖ whichever preconditioner is used.
+  for (auto pc : {PressurePreconditioner::schur, PressurePreconditioner::laplacian}) {
+    ChannelFlowParams p = narrow_channel(0.5e-6, 1e-7);
+    p.preconditioner = pc;
+    p.cg_tolerance = 1e-9;
+    ChannelFlow flow(p);
+    const ChannelMesh& m = flow.mesh();
+    for (int j = 1; j < m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) {
+        const double x = m.x(i) / p.length, y = m.y(j) / p.height;
+        flow.velocity().u1[m.v(i, j)] = 0.1 * std::sin(2 * kPi * x) * std::sin(kPi * y) + 0.05 * y * y;
+        flow.velocity().u2[m.v(i, j)] = 0.07 * std::cos(4 * kPi * x) * std::sin(2 * kPi * y) * x;
+      }
+    std::vector<double> div;
+    flow.projection().divergence(flow.velocity(), div);
+    const double before = Eigen::Map<Eigen::VectorXd>(div.data(), Eigen::Index(div.size())).norm();
+    const ProjectionReport rep = flow.project();
+    flow.projection().divergence(flow.velocity(), div);
+    const double after = Eigen::Map<Eigen::VectorXd>(div.data(), Eigen::Index(div.size())).norm();
+    EXPECT_LE(after, 1.0001 * p.cg_tolerance * before) << "preconditioner " << int(pc);
+    EXPECT_LT(rep.iterations, pc == PressurePreconditioner::schur ? 4 : 100);
+  }
+}
+
+TEST(WaveLikeAdvection, SmoothFieldTranslatesWithSecondOrderAccuracy) {
+  // Constant V = (c, 0) translates u exactly: u(x, t) = u0(x − c t). The Taylor start step is a
+  // Lax–Wendroff step, second order in τ and h, so with τ ∝ h the error should fall like h².
+  const double c = 1.0, t_end = 0.25;
+  auto u0 = [](double x, double y) { return std::sin(2 * kPi * x) * std::pow(std::sin(kPi * y), 2); };
+  std::vector<double> err;
+  for (int n : {32, 64, 128}) {
+    const ChannelMesh m = ChannelMesh::make(1.0, 1.0, 1.0 / n);
+    VelocityField V(m), u(m);
+    for (int j = 0; j <= m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) {
+        V.u1[m.v(i, j)] = c;
+        u.u1[m.v(i, j)] = u0(m.x(i), m.y(j));
+        u.u2[m.v(i, j)] = -u0(m.x(i) + 0.3, m.y(j));
+      }
+    WaveLikeAdvection adv(m);
+    const int steps = n;  // τ c / h = 0.25
+    for (int s = 0; s < steps; ++s) adv.advect(V, u, t_end / steps, 1);
+    double e = 0;
+    for (int j = 0; j <= m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) {
+        e = std::max(e, std::abs(u.u1[m.v(i, j)] - u0(m.x(i) - c * t_end, m.y(j))));
+        e = std::max(e, std::abs(u.u2[m.v(i, j)] + u0(m.x(i) + 0.3 - c * t_end, m.y(j))));
+      }
+    err.push_back(e);
+  }
+  EXPECT_GT(std::log2(err[0] / err[1]), 1.8);
+  EXPECT_GT(std::log2(err[1] / err[2]), 1.8);
+}
+
+TEST(WaveLikeAdvection, SubstepsAgreeWithASingleStep) {
+  // Q centred substeps of τ = Δt/Q approximate the same translation: the difference between
+  // Q = 1 and Q = 4 is of the scheme's order, (c Δt / L)² = 6e-5 here.
+  const ChannelMesh m = ChannelMesh::make(1.0, 1.0, 1.0 / 64);
+  VelocityField V(m), a(m);
+  for (int j = 0; j <= m.ny; ++j)
+    for (int i = 0; i < m.nx; ++i) {
+      V.u1[m.v(i, j)] = 1.0;
+      a.u1[m.v(i, j)] = std::sin(2 * kPi * m.x(i)) * std::pow(std::sin(kPi * m.y(j)), 2);
+    }
+  VelocityField b = a;
+  WaveLikeAdvection adv(m);
+  for (int s = 0; s < 32; ++s) { adv.advect(V, a, 1.0 / 128, 1); adv.advect(V, b, 1.0 / 128, 4); }
+  double d = 0;
+  for (std::size_t k = 0; k < a.u1.size(); ++k) d = std::max(d, std::abs(a.u1[k] - b.u1[k]));
+  EXPECT_LT(d, 1e-3);
+}
+
+// A manufactured unsteady flow: stream function ψ = e^{−t} sin(kx) s(y), s = a (y(1−y))²,
+// u = (ψ_y, −ψ_x), zero on both walls, divergence-free; p = 0; the force is
+// f = ρ(∂u/∂t + u·∇u) − μΔu.
+struct Manufactured {
+  double rho = 1.0, mu = 0.05, a = 5.0, k = 2 * kPi;
+  double s(double y) const { return a * std::pow(y * (1 - y), 2); }
+  double s1(double y) const { return 2 * a * y * (1 - y) * (1 - 2 * y); }
+  double s2(double y) const { return 2 * a * (1 - 6 * y + 6 * y * y); }
+  double s3(double y) const { return 2 * a * (-6 + 12 * y); }
+  void velocity(double x, double y, double t, double& u1, double& u2) const {
+    const double E = std::exp(-t);
+    u1 = E * std::sin(k * x) * s1(y);
+    u2 = -E * k * std::cos(k * x) * s(y);
+  }
+  void force(double x, double y, double t, double& f1, double& f2) const {
+    const double E = std::exp(-t), S = std::sin(k * x), C = std::cos(k * x);
+    const double u1 = E * S * s1(y), u2 = -E * k * C * s(y);
+    const double u1x = E * k * C * s1(y), u1y = E * S * s2(y);
+    const double u2x = E * k * k * S * s(y), u2y = -E * k * C * s1(y);
+    const double lap1 = E * S * (-k * k * s1(y) + s3(y));
+    const double lap2 = -E * k * C * (-k * k * s(y) + s2(y));
+    f1 = rho * (-u1 + u1 * u1x + u2 * u1y) - mu * lap1;
+    f2 = rho * (-u2 + u1 * u2x + u2 * u2y) - mu * lap2;
+  }
+};
+
+TEST(ManufacturedSolution, VelocityConvergesSecondOrderInHWithDtProportionalToHSquared) {
+  // Expected: P1-iso-P2 velocity is O(h²) at the nodes; Lie splitting and backward Euler are
+  // O(Δt) = O(h²) with Δt ∝ h²; so the max nodal error at fixed t should fall like h².
+  const Manufactured ms;
+  const double t_end = 0.2;
+  std::vector<double> err;
+  for (int n : {16, 32, 64}) {
+    ChannelFlowParams p;
+    p.fluid = {ms.rho, ms.mu};
+    p.length = p.height = 1.0;
+    p.mesh_size = 1.0 / n;
+    const int steps = 20 * (n / 16) * (n / 16);
+    p.dt = t_end / steps;
+    p.body_force = 0.0;
+    ChannelFlow flow(p);
+    const ChannelMesh& m = flow.mesh();
+    for (int j = 0; j <= m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) ms.velocity(m.x(i), m.y(j), 0.0, flow.velocity().u1[m.v(i, j)], flow.velocity().u2[m.v(i, j)]);
+    VelocityField f(m);
+    for (int s = 0; s < steps; ++s) {
+      flow.project();
+      flow.advect();
+      const double t1 = flow.time() + p.dt;
+      for (int j = 0; j <= m.ny; ++j)
+        for (int i = 0; i < m.nx; ++i) ms.force(m.x(i), m.y(j), t1, f.u1[m.v(i, j)], f.u2[m.v(i, j)]);
+      flow.diffuse(&f);
+    }
+    double e = 0;
+    for (int j = 0; j <= m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) {
+        double u1, u2;
+        ms.velocity(m.x(i), m.y(j), flow.time(), u1, u2);
+        e = std::max({e, std::abs(flow.velocity().u1[m.v(i, j)] - u1), std::abs(flow.velocity().u2[m.v(i, j)] - u2)});
+      }
+    err.push_back(e);
+  }
+  const double o1 = std::log2(err[0] / err[1]), o2 = std::log2(err[1] / err[2]);
+  std::printf("manufactured: errors %.3e %.3e %.3e, observed orders %.2f %.2f\n", err[0], err[1], err[2], o1, o2);
+  EXPECT_GT(o2, 1.7);
+  EXPECT_LT(o2, 2.5);
+}
+
+}  // namespace
+}  // namespace rbc
