@@ -6,6 +6,7 @@
 #include <Eigen/SparseLU>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
+#include "fem/divergence_stencil.hpp"
 #include "fem/p1_operators.hpp"
 #include "fluid/diffusion.hpp"
 #include "fluid/quasi_stokes.hpp"
@@ -155,6 +156,36 @@ TEST(ChannelMeshInput, MeshSizeThatDoesNotDivideTheChannelIsRejectedNamingTheSid
   }
   EXPECT_THROW(ChannelMesh::make(20e-6, 10e-6, -1.0), std::invalid_argument);
   EXPECT_THROW(ChannelMesh::make(3e-6, 10e-6, 1e-6), std::invalid_argument);  // 3 cells: odd
+}
+
+}  // namespace
+}  // namespace rbc
+
+namespace rbc {
+namespace {
+
+TEST(FemOperators, DivergenceStencilEqualsTheAssembledMatrixAndItsTranspose) {
+  // The matrix-free B = R D and Bᵀ agree with the element-by-element assembly to round-off.
+  const ChannelMesh m = ChannelMesh::make(6e-6, 4e-6, 0.5e-6);
+  const SparseMatrix B = assemble_divergence(m);
+  const DivergenceStencil S(m);
+  const std::size_t nv = m.velocity_nodes();
+  std::vector<double> u = random_vector(2 * nv, 5);
+  std::vector<double> u1(u.begin(), u.begin() + nv), u2(u.begin() + nv, u.end()), div;
+  S.apply(u1, u2, div);
+  const Eigen::VectorXd ref = B * Eigen::Map<const Eigen::VectorXd>(u.data(), Eigen::Index(u.size()));
+  const double scale = ref.lpNorm<Eigen::Infinity>();
+  for (Eigen::Index q = 0; q < ref.size(); ++q) EXPECT_NEAR(div[q], ref[q], 1e-13 * scale);
+  const std::vector<double> p = random_vector(m.pressure_nodes(), 6);
+  std::vector<double> g1, g2;
+  S.apply_transpose(p, g1, g2);
+  const Eigen::VectorXd gt = B.transpose() * Eigen::Map<const Eigen::VectorXd>(p.data(), Eigen::Index(p.size()));
+  const double gs = gt.lpNorm<Eigen::Infinity>();
+  for (int j = 1; j < m.ny; ++j)
+    for (int i = 0; i < m.nx; ++i) {
+      EXPECT_NEAR(g1[m.v(i, j)], gt[m.v(i, j)], 1e-13 * gs);
+      EXPECT_NEAR(g2[m.v(i, j)], gt[nv + m.v(i, j)], 1e-13 * gs);
+    }
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <Eigen/Core>
+
 #include "diagnostics/flow_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
 

@@ -48,6 +48,19 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
         for (int c = p + 1; c <= std::min(rows_ - 1, p + band_); ++c) entry(k, r2, c) -= l * entry(k, p, c);
       }
     }
+  const int w = 2 * band_ + 1;
+  fre_.assign(std::size_t(rows_) * w * nk_, 0.0);
+  fim_.assign(fre_.size(), 0.0);
+  for (int k = 0; k < nk_; ++k)
+    for (int j = 0; j < rows_; ++j)
+      for (int o = 0; o < w; ++o) {
+        const int jp = j + o - band_;
+        if (jp < 0 || jp >= rows_) continue;
+        cplx v = entry(k, j, jp);
+        if (o == band_) v = 1.0 / v;
+        fre_[(std::size_t(j) * w + o) * nk_ + k] = v.real();
+        fim_[(std::size_t(j) * w + o) * nk_ + k] = v.imag();
+      }
   // One batch of rows real transforms of length nx, planned once.
   real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
   spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
@@ -66,23 +79,39 @@ PeriodicBandedSolver::~PeriodicBandedSolver() {
 void PeriodicBandedSolver::solve(const double* b, double* x) {
   std::memcpy(real_, b, sizeof(double) * std::size_t(nx_) * rows_);
   fftw_execute(forward_);
-  auto* spec = reinterpret_cast<cplx*>(spec_);
-  const int w = 2 * band_ + 1;
-#pragma omp parallel
-  {
-    std::vector<cplx> c(rows_);
-#pragma omp for schedule(static)
-    for (int k = 0; k < nk_; ++k) {
-      const cplx* a = &lu_[std::size_t(k) * rows_ * w];
-      for (int j = 0; j < rows_; ++j) c[j] = spec[std::size_t(j) * nk_ + k];
-      // Forward substitution with the unit lower factor, then back substitution.
-      for (int j = 1; j < rows_; ++j)
-        for (int p = std::max(0, j - band_); p < j; ++p) c[j] -= a[std::size_t(j) * w + (p - j + band_)] * c[p];
-      for (int j = rows_ - 1; j >= 0; --j) {
-        for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) c[j] -= a[std::size_t(j) * w + (q - j + band_)] * c[q];
-        c[j] /= a[std::size_t(j) * w + band_];
+  // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec_[j * nk_ + k].
+  double* s = &spec_[0][0];
+  const int w = 2 * band_ + 1, nk = nk_;
+  auto re = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k)]; };
+  auto im = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k) + 1]; };
+  // Forward substitution with the unit lower factor, all modes at once: c_j −= l_{j,p} c_p.
+  for (int j = 1; j < rows_; ++j)
+    for (int p = std::max(0, j - band_); p < j; ++p) {
+      const double* lr = &fre_[(std::size_t(j) * w + (p - j + band_)) * nk];
+      const double* li = &fim_[(std::size_t(j) * w + (p - j + band_)) * nk];
+      for (int k = 0; k < nk; ++k) {
+        const double cr = re(p, k), ci = im(p, k);
+        re(j, k) -= lr[k] * cr - li[k] * ci;
+        im(j, k) -= lr[k] * ci + li[k] * cr;
       }
-      for (int j = 0; j < rows_; ++j) spec[std::size_t(j) * nk_ + k] = c[j];
+    }
+  // Back substitution with the upper factor: c_j = (c_j − Σ u_{j,q} c_q) / u_jj.
+  for (int j = rows_ - 1; j >= 0; --j) {
+    for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) {
+      const double* ur = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk];
+      const double* ui = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk];
+      for (int k = 0; k < nk; ++k) {
+        const double cr = re(q, k), ci = im(q, k);
+        re(j, k) -= ur[k] * cr - ui[k] * ci;
+        im(j, k) -= ur[k] * ci + ui[k] * cr;
+      }
+    }
+    const double* dr = &fre_[(std::size_t(j) * w + band_) * nk];
+    const double* di = &fim_[(std::size_t(j) * w + band_) * nk];
+    for (int k = 0; k < nk; ++k) {
+      const double cr = re(j, k), ci = im(j, k);
+      re(j, k) = dr[k] * cr - di[k] * ci;
+      im(j, k) = dr[k] * ci + di[k] * cr;
     }
   }
   fftw_execute(backward_);

@@ -40,6 +40,10 @@ class PeriodicBandedSolver {
   using cplx = std::complex<double>;
   int nx_, rows_, nk_, band_ = 0;
   std::vector<cplx> lu_;  // per mode: rows x (2 band + 1), entry (j, j') at [j*(2b+1) + j'-j+b]
+  // The factors again, laid out for the solve: for row j and offset o = j'-j+b, the nk_ modes
+  // are contiguous (real and imaginary parts apart), so the substitutions run over all modes at
+  // once in unit stride; the diagonal holds 1/pivot.
+  std::vector<double> fre_, fim_;
   double* real_ = nullptr;
   fftw_complex* spec_ = nullptr;
   fftw_plan forward_ = nullptr, backward_ = nullptr;

@@ -27,14 +27,17 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
   for (int c = 0; c < 2; ++c) {
     std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
     const std::vector<double>* extra = field ? (c == 0 ? &field->u1 : &field->u2) : nullptr;
-    for (int r = 0; r < rows; ++r)
-      for (int i = 0; i < nx; ++i) {
-        const std::size_t n = m_.v(i, r + 1);
-        double s = a * f[n] + h2 * (body_force[c] + (extra ? (*extra)[n] : 0.0));
-        if (r == 0) s += mu_ * f[m_.v(i, 0)];
-        if (r + 1 == rows) s += mu_ * f[m_.v(i, m_.ny)];
-        rhs_[std::size_t(r) * nx + i] = s;
-      }
+    const double* bottom = &f[0];
+    const double* top = &f[std::size_t(m_.ny) * nx];
+    for (int r = 0; r < rows; ++r) {
+      const std::size_t o = std::size_t(r + 1) * nx;  // node row j = r + 1
+      double* out = &rhs_[std::size_t(r) * nx];
+      for (int i = 0; i < nx; ++i) out[i] = a * f[o + i] + h2 * (body_force[c] + (extra ? (*extra)[o + i] : 0.0));
+      if (r == 0)
+        for (int i = 0; i < nx; ++i) out[i] += mu_ * bottom[i];
+      if (r + 1 == rows)
+        for (int i = 0; i < nx; ++i) out[i] += mu_ * top[i];
+    }
     solver_->solve(rhs_.data(), rhs_.data());
     std::copy(rhs_.begin(), rhs_.end(), f.begin() + nx);
   }

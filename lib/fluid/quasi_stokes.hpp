@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
-#include "fem/p1_operators.hpp"
+#include "fem/divergence_stencil.hpp"
 #include "mesh/channel_mesh.hpp"
 
 namespace rbc {
@@ -38,7 +38,6 @@ class QuasiStokesProjection {
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
-  const SparseMatrix& divergence_matrix() const { return B_; }
   void remove_mean(std::vector<double>& p) const;
 
  private:
@@ -46,15 +45,16 @@ class QuasiStokesProjection {
   void precondition(const std::vector<double>& r, std::vector<double>& z);
 
   ChannelMesh mesh_;
-  SparseMatrix B_, Bt_;            // Bt_ has wall rows removed (interior velocity only)
-  std::vector<double> inv_mass_;   // 1/M on interior nodes, 0 on the walls
+  DivergenceStencil B_;            // B and Bᵀ (Bᵀ on the interior velocity nodes only)
+  double inv_mass_;                // 1/M = 1/h² on the interior nodes
   std::vector<double> weights_;    // lumped weights of T_2h for the mean
   std::unique_ptr<PeriodicBandedSolver> pc_;
   double tol_;
-  double row_abs_norm_ = 0;  // ‖(Σ_n |B_qn|)_q‖₂, the scale of round-off in B u
+  bool exact_pc_ = false;
+  double row_abs_norm_ = 0;  // ≈ ‖(Σ_n |B_qn|)_q‖₂, the scale of round-off in B u
   int max_it_;
   // Work vectors, sized once.
-  mutable std::vector<double> vel_, r_, z_, d_, sd_;
+  mutable std::vector<double> g1_, g2_, r_, z_, d_, sd_, b_;
 };
 
 }  // namespace rbc

@@ -24,12 +24,13 @@ class WaveLikeAdvection {
   void advect(const VelocityField& V, VelocityField& u, double dt, int substeps);
 
  private:
-  // out = M⁻¹ A f (second) and out = −M⁻¹ C f (first), interior nodes only.
-  void apply(const std::vector<double>& f, std::vector<double>& minv_a, std::vector<double>* minv_c) const;
+  // For both components c: minv_a[c] = M⁻¹ A f[c], and (if given) minv_c[c] = −M⁻¹ C f[c],
+  // on the interior nodes.
+  void apply(std::vector<double>* const f[2], std::vector<double>* minv_a, std::vector<double>* minv_c);
   ChannelMesh m_;
   std::vector<double> vl_[2], vu_[2];  // V at the centroids of the lower/upper triangles of each square
-  mutable std::vector<double> gl_, gu_;
-  std::vector<double> prev_, cur_, next_, acc_, vel_;
+  std::vector<double> gl_[2], gu_[2];  // V_T · ∇f_T per triangle, per component
+  std::vector<double> prev_[2], cur_[2], next_[2], acc_[2], vel_[2];
 };
 
 }  // namespace rbc

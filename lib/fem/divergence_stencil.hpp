@@ -1,0 +1,30 @@
+#pragma once
+// The divergence matrix B of fem/p1_operators.hpp applied as stencils (no stored matrix).
+//
+// On a fine triangle T, ∇·u is constant and the coarse pressure basis q_Q is linear, so
+//   (B u)_Q = Σ_T |T| (∇·u)_T (q_Q(a) + q_Q(b) + q_Q(c))/3 = Σ_n q_Q(n) d_n,
+//   d_n = Σ_{T ∋ n} |T| (∇·u)_T / 3                    (a fine "divergence moment"),
+// i.e. B = R D: a fine stencil D followed by the restriction R with the weights q_Q(n) of the
+// P1-iso-P2 refinement (1 at the coarse node, 1/2 at the six fine neighbours along the coarse
+// edges). Its transpose is Bᵀ = Dᵀ Rᵀ: prolongate p to the fine nodes, average over each
+// triangle, and take the weighted basis gradients.
+#include <vector>
+
+#include "mesh/channel_mesh.hpp"
+
+namespace rbc {
+
+class DivergenceStencil {
+ public:
+  explicit DivergenceStencil(const ChannelMesh& mesh);
+  // div[Q] = (B u)_Q over all coarse nodes.
+  void apply(const std::vector<double>& u1, const std::vector<double>& u2, std::vector<double>& div) const;
+  // (g1, g2) = Bᵀ p on the interior velocity nodes (wall rows set to 0).
+  void apply_transpose(const std::vector<double>& p, std::vector<double>& g1, std::vector<double>& g2) const;
+
+ private:
+  ChannelMesh m_;
+  mutable std::vector<double> fine_, tri_lower_, tri_upper_;
+};
+
+}  // namespace rbc

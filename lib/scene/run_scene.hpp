@@ -1,0 +1,31 @@
+#pragma once
+// Runs a scene to its end and writes the outputs of SPEC section 8 into the output folder:
+//   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, hematocrit, cells, disks, …
+//   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations
+//   vtk/          ParaView files of the velocity, when [output] vtk = true
+#include <string>
+
+#include "scene/simulation.hpp"
+
+namespace rbc {
+
+struct RunOptions {
+  std::string out_dir;    // created if missing
+  int threads = 0;        // 0: the OpenMP default
+  bool progress = true;   // progress line on stderr
+};
+
+struct RunSummary {
+  long steps = 0;
+  double t_end = 0, wall_seconds = 0;
+  double mean_velocity = 0, reynolds = 0, max_speed = 0;
+};
+
+// Throws SceneError (output folder not writable) or RunFailure (instability); in the latter case
+// series.csv holds every sample up to the failure.
+RunSummary run_scene(const Scene& scene, const RunOptions& options);
+
+// Creates dir (and parents) and checks that a file can be written in it; throws SceneError.
+void prepare_output_dir(const std::string& dir);
+
+}  // namespace rbc
