@@ -1,0 +1,161 @@
+// The scene runner: bad input gets one clear line naming the key and what is allowed; a good
+// scene writes summary.json and series.csv as SPEC section 8 names them.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "scene/run_scene.hpp"
+
+namespace rbc {
+namespace {
+
+const std::string kGood = R"(
+[fluid]
+density = 1000.0
+viscosity = 1.2e-3
+[channel]
+length = 4e-6
+height = 2e-6
+mesh_size = 0.25e-6
+reynolds = 0.1
+[time]
+dt = 1e-7
+end = 2e-6
+[output]
+every = 5e-7
+)";
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto k = s.find(from);
+  EXPECT_NE(k, std::string::npos) << from;
+  return s.replace(k, from.size(), to);
+}
+
+// The message of the SceneError that parsing `text` throws ("" if none).
+std::string scene_error(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_scene(text, "scene.toml", overrides);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_error(const std::string& message, std::initializer_list<const char*> fragments) {
+  ASSERT_FALSE(message.empty()) << "expected a SceneError";
+  EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  EXPECT_EQ(message.rfind("scene.toml", 0), 0u) << "names the file: " << message;
+  for (const char* f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' in: " << message;
+}
+
+TEST(SceneInput, GoodSceneParsesWithUnitsAsWritten) {
+  const Scene s = parse_scene(kGood, "scene.toml");
+  EXPECT_DOUBLE_EQ(s.length, 4e-6);
+  EXPECT_DOUBLE_EQ(*s.reynolds0, 0.1);
+  EXPECT_DOUBLE_EQ(s.driving_force(), body_force_from_reynolds(0.1, s.fluid, 2e-6));
+}
+
+TEST(SceneInput, UnknownKeyIsRejectedWithTheNearestValidKey) {
+  expect_error(scene_error(replace(kGood, "mesh_size", "mesh_sise")), {"[channel] mesh_sise", "unknown key", "did you mean 'mesh_size'"});
+  expect_error(scene_error(kGood + "[outptu]\nevery = 1e-6\n"), {"unknown table", "did you mean 'output'"});
+}
+
+TEST(SceneInput, MissingRequiredKeysAreNamed) {
+  expect_error(scene_error(replace(kGood, "height = 2e-6\n", "")), {"[channel] height", "missing required key", "m)"});
+  expect_error(scene_error(replace(kGood, "reynolds = 0.1\n", "")), {"reynolds", "body_force"});
+  expect_error(scene_error(""), {"missing required key"});
+}
+
+TEST(SceneInput, ValuesOutOfRangeOrOfTheWrongTypeAreRejected) {
+  expect_error(scene_error(replace(kGood, "viscosity = 1.2e-3", "viscosity = -1.0")), {"[fluid] viscosity", "out of range", "Pa s"});
+  expect_error(scene_error(replace(kGood, "length = 4e-6", "length = \"long\"")), {"[channel] length", "must be a number", "a string"});
+  expect_error(scene_error(replace(kGood, "length = 4e-6", "length = nan")), {"[channel] length", "out of range"});
+  expect_error(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 0.1\nbody_force = 3.0")), {"not both"});
+  expect_error(scene_error(replace(kGood, "end = 2e-6", "end = 1e-8")), {"[time] end", "at least one time step"});
+  expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = 1")), {"[output] vtk", "true or false"});
+  expect_error(scene_error(kGood + "[solver]\npressure_preconditioner = \"shur\"\n"), {"did you mean 'schur'"});
+}
+
+TEST(SceneInput, MeshSizeThatDoesNotDivideTheChannelNamesTheSide) {
+  expect_error(scene_error(replace(kGood, "height = 2e-6", "height = 2.1e-6")), {"[channel] mesh_size", "height"});
+  expect_error(scene_error(replace(kGood, "length = 4e-6", "length = 4.3e-6")), {"[channel] mesh_size", "length"});
+}
+
+TEST(SceneInput, TimeStepAboveTheAdvectiveBoundIsRejected) {
+  // Re0 = 50 in this tiny channel: U_max = 1.5 U0 = 45 m/s, bound 0.5 h / U_max = 2.8e-9 s.
+  expect_error(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 50")), {"[time] dt", "advective bound"});
+  // More wave-like substeps raise the bound.
+  EXPECT_EQ(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 50"), {"time.advection_substeps=40"}), "");
+}
+
+TEST(SceneInput, NotYetSupportedTablesAreRefusedClearly) {
+  expect_error(scene_error(kGood + "[[cell]]\ncenter = [1e-6, 1e-6]\n"), {"[cell]", "not supported"});
+}
+
+TEST(SceneInput, InvalidTomlOrBinaryInputIsRejectedWithoutCrashing) {
+  expect_error(scene_error("[channel\nlength = 1"), {"not valid TOML"});
+  expect_error(scene_error(std::string("\x7f" "ELF\0\x01\x02", 7)), {"binary"});
+  expect_error(scene_error("length = 1e-6\n"), {"unknown table", "'length'"});
+}
+
+TEST(SceneInput, SetOverridesAKeyAndBadOverridesAreNamed) {
+  const Scene s = parse_scene(kGood, "scene.toml", {"time.dt=5e-8", "solver.pressure_preconditioner=laplacian"});
+  EXPECT_DOUBLE_EQ(s.dt, 5e-8);
+  EXPECT_EQ(s.pressure_preconditioner, "laplacian");
+  expect_error(scene_error(kGood, {"dt=1e-8"}), {"expected table.key=value"});
+  expect_error(scene_error(kGood, {"time.dtt=1e-8"}), {"did you mean 'dt'"});
+}
+
+TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_outputs";
+  std::filesystem::remove_all(out);
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  const RunSummary s = run_scene(scene, {out.string(), 1, false});
+  EXPECT_EQ(s.steps, 20);
+  std::ifstream js(out / "summary.json");
+  const nlohmann::json j = nlohmann::json::parse(js);
+  for (const char* key : {"steps", "t_end", "wall_seconds", "mean_velocity", "reynolds", "hematocrit", "cells", "disks"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["steps"].get<long>(), 20);
+  EXPECT_NEAR(j["t_end"].get<double>(), 2e-6, 1e-15);
+  std::ifstream csv(out / "series.csv");
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("t,mean_velocity,reynolds,hematocrit", 0), 0u) << header;
+  int samples = 0;
+  while (std::getline(csv, line)) ++samples;
+  EXPECT_EQ(samples, 5);  // t = 0 and every 5e-7 s to 2e-6 s
+}
+
+TEST(SceneRunner, UnwritableOutputFolderIsASceneError) {
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  EXPECT_THROW(run_scene(scene, {"/proc/rbcflow-cannot-write-here", 1, false}), SceneError);
+}
+
+// The executable: exit codes and one-line messages for bad command lines.
+int run_cli(const std::string& args, std::string& err) {
+  const auto errfile = std::filesystem::temp_directory_path() / "rbcflow_cli_err.txt";
+  const int status = std::system((std::string(RBCFLOW_BIN_DIR) + "/rbcflow " + args + " >/dev/null 2>" + errfile.string()).c_str());
+  std::ifstream f(errfile);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  err = ss.str();
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(SceneRunnerCli, BadCommandLinesExitNonZeroWithAMessage) {
+  std::string err;
+  EXPECT_NE(run_cli("run /nonexistent/scene.toml", err), 0);
+  EXPECT_NE(err.find("cannot open the scene file"), std::string::npos) << err;
+  EXPECT_NE(run_cli("run --frobnicate 3", err), 0);
+  EXPECT_FALSE(err.empty());
+  EXPECT_NE(run_cli("", err), 0);
+}
+
+}  // namespace
+}  // namespace rbc
