@@ -72,6 +72,19 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   s.reynolds = reynolds_number(s.mean_velocity, scene.fluid, scene.height);
   s.max_speed = max_speed(flow.velocity());
 
+  // The x1-averaged velocity profile at the end, for plots against the Poiseuille parabola.
+  {
+    std::ofstream prof(out / "profile.csv");
+    prof << "y,u1,u2\n";
+    prof.precision(10);
+    const ChannelMesh& m = flow.mesh();
+    for (int jy = 0; jy <= m.ny; ++jy) {
+      double a = 0, b = 0;
+      for (int i = 0; i < m.nx; ++i) { a += flow.velocity().u1[m.v(i, jy)]; b += flow.velocity().u2[m.v(i, jy)]; }
+      prof << m.y(jy) << "," << a / m.nx << "," << b / m.nx << "\n";
+    }
+  }
+
   nlohmann::ordered_json j;
   j["steps"] = s.steps;
   j["t_end"] = s.t_end;

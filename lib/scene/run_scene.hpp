@@ -2,6 +2,7 @@
 // Runs a scene to its end and writes the outputs of SPEC section 8 into the output folder:
 //   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, hematocrit, cells, disks, …
 //   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations
+//   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
 //   vtk/          ParaView files of the velocity, when [output] vtk = true
 #include <string>
 

@@ -1,0 +1,52 @@
+# rbcflow — two commands do everything (README.md):
+#   make reproduce   run every experiment, draw its figures, write paper/report/   (QUICK=1: CI parameters)
+#   make test        unit tests and quick experiment checks, Release and sanitized builds
+# Missing Debian packages are installed first (as root; apt-get update, then only what is absent).
+
+BUILD      ?= build
+BUILD_SAN  ?= build-sanitize
+JOBS       ?= $(shell nproc)
+QUICK      ?= 0
+
+DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
+                libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+
+# The experiments that exist so far, in the study's order (SPEC section 5).
+EXPERIMENTS := channel_flow
+
+.PHONY: all deps build test test-release test-sanitize reproduce bench clean
+
+all: build
+
+deps:
+	@missing=""; \
+	for p in $(DEB_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "rbcflow: installing missing Debian packages:$$missing"; \
+	  apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; \
+	else echo "rbcflow: all Debian packages present"; fi
+
+build: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j $(JOBS)
+
+test: test-release test-sanitize
+
+test-release: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Debug build with AddressSanitizer and UndefinedBehaviorSanitizer (unit tests only).
+test-sanitize: deps
+	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DRBCFLOW_SANITIZE=ON
+	cmake --build $(BUILD_SAN) -j $(JOBS) --target unit_tests rbcflow
+	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+
+reproduce: build
+	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi
+	QUICK=$(QUICK) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
+
+bench: build
+	$(BUILD)/bin/bench_channel
+
+clean:
+	rm -rf $(BUILD) $(BUILD_SAN) results

@@ -1,0 +1,41 @@
+#pragma once
+// Experiment channel_flow — the cell-free plasma flow every experiment of the study stands on.
+//
+// Claim: driven by f_p = 12 μ U0 / H² with U0 = Re0 μ / (ρ H), the study's narrow (20 × 10 µm,
+// h = 0.125 µm, Re0 = 0.5556) and wide (100 × 50 µm, h = 0.3125 µm, Re0 = 2.778) channels start
+// from rest and settle on plane Poiseuille flow with mean velocity U0 = 6.667 cm/s (SPEC section
+// 1; Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, the Re0 of Sections 4.1-4.3). We check the
+// mean velocity and Re against reference-data/channel_flow.csv and plot the start-up against the
+// Fourier-series solution and the final profile against the parabola.
+//
+// Run:  build/bin/channel_flow --check          (about 20 s on 2 cores)
+//       build/bin/channel_flow --quick --check  (larger Δt, about 10 s)
+#include <map>
+#include <string>
+
+#include "reference/reference_table.hpp"
+#include "scene/run_scene.hpp"
+
+namespace rbc::channel_flow {
+
+struct Params {
+  std::string out_dir = "results/channel_flow";
+  bool quick = false;  // Δt raised to 80-96 % of the advective bound (the steady state is Δt-independent)
+  int threads = 0;
+  bool progress = true;
+};
+
+struct ChannelResult {
+  RunSummary summary;
+  double profile_error = 0;  // max |u1 − parabola| / peak at the end
+  double startup_error = 0;  // max |U(t) − U_exact(t)| / U0 over the samples
+};
+
+struct Results {
+  std::map<std::string, ChannelResult> channels;  // "narrow", "wide"
+  std::map<std::string, Measured> measured;       // ids of reference-data/channel_flow.csv
+};
+
+Results run(const Params& params);
+
+}  // namespace rbc::channel_flow

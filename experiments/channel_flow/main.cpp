@@ -1,0 +1,34 @@
+// channel_flow: cell-free Poiseuille flow in the study's channels (see channel_flow.hpp).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "channel_flow.hpp"
+
+int main(int argc, char** argv) {
+  rbc::channel_flow::Params p;
+  bool check = false;
+  CLI::App app{"channel_flow: the study's cell-free channels against plane Poiseuille flow"};
+  app.add_option("--out", p.out_dir, "output folder");
+  app.add_flag("--quick", p.quick, "short CI parameters");
+  app.add_flag("--check", check, "compare with reference-data/channel_flow.csv; exit 1 on a failed row");
+  app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const auto res = rbc::channel_flow::run(p);
+    for (const auto& [name, r] : res.channels)
+      std::printf("%-6s: %ld steps, %.1f s wall; max |u1 - parabola|/peak = %.2e; start-up max |U - U_exact|/U0 = %.2e\n",
+                  name.c_str(), r.summary.steps, r.summary.wall_seconds, r.profile_error, r.startup_error);
+    if (!check) return 0;
+    const auto rows = rbc::load_reference_table(rbc::reference_table_path("channel_flow"));
+    const auto summary = rbc::check_against_reference(rows, res.measured, std::cout);
+    std::ofstream md(p.out_dir + "/check.md");
+    rbc::check_against_reference(rows, res.measured, md, true);
+    return summary.ok() ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "channel_flow: error: %s\n", e.what());
+    return 2;
+  }
+}
