@@ -252,3 +252,31 @@ TEST(ManufacturedSolution, VelocityConvergesSecondOrderInHWithDtProportionalToHS
 
 }  // namespace
 }  // namespace rbc
+
+#include <omp.h>
+
+namespace rbc {
+namespace {
+
+TEST(Determinism, TwoDimensionalFlowIsBitIdenticalWithOneAndTwoThreads) {
+  // Every OpenMP loop is element-wise (no parallel reductions), and FFTW plans are made with
+  // FFTW_ESTIMATE, so the thread count must not change a single bit.
+  auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    ChannelFlowParams p = narrow_channel(0.5e-6, 1e-7);
+    ChannelFlow flow(p);
+    const ChannelMesh& m = flow.mesh();
+    for (int j = 1; j < m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) flow.velocity().u2[m.v(i, j)] = 0.01 * std::sin(2 * kPi * i / m.nx) * std::sin(kPi * j / m.ny);
+    for (int n = 0; n < 30; ++n) flow.step();
+    return flow.velocity();
+  };
+  const int saved = omp_get_max_threads();
+  const VelocityField a = run(1), b = run(2);
+  omp_set_num_threads(saved);
+  EXPECT_EQ(a.u1, b.u1);
+  EXPECT_EQ(a.u2, b.u2);
+}
+
+}  // namespace
+}  // namespace rbc
