@@ -5,7 +5,11 @@
 #include <fstream>
 #include <sstream>
 
+#include <map>
+
 #include <toml++/toml.h>
+
+#include "membrane/shape_preparation.hpp"
 
 namespace rbc {
 
@@ -22,12 +26,14 @@ const std::vector<TableSpec>& schema() {
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps"}},
       {"solver", {"pressure_preconditioner", "cg_tolerance"}},
-      {"output", {"every", "vtk"}},
+      {"output", {"every", "vtk", "snapshots"}},
+      {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
   return s;
 }
 // Tables of SPEC section 8 that need parts of the method this version does not have yet.
-const std::vector<std::string> kNotYet = {"membrane", "cell", "disk", "obstacle"};
+const std::vector<std::string> kNotYet = {"disk", "obstacle"};
+const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle"};
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -61,13 +67,26 @@ class Reader {
   }
 
   void check_structure() const {
-    std::vector<std::string> tables;
+    std::vector<std::string> tables = {"cell"};
     for (const auto& t : schema()) tables.push_back(t.name);
     for (auto&& [k, node] : root_) {
       const std::string key(k.str());
       if (std::find(kNotYet.begin(), kNotYet.end(), key) != kNotYet.end())
-        fail("[" + key + "]", "cells, disks, obstacles and membranes are not supported by this version of rbcflow "
-                               "(cell-free channels only)");
+        fail("[[" + key + "]]", "rigid disks and obstacles need the fictitious-domain method, which this version "
+                                 "of rbcflow does not have yet");
+      if (key == "cell") {
+        if (!node.is_array_of_tables()) fail("'cell'", "must be an array of tables, written [[cell]]");
+        int k = 0;
+        for (auto&& c : *node.as_array()) {
+          for (auto&& [kk, vv] : *c.as_table()) {
+            const std::string sub(kk.str());
+            if (std::find(kCellKeys.begin(), kCellKeys.end(), sub) == kCellKeys.end())
+              fail("[[cell]] " + std::to_string(k) + " " + sub, "unknown key" + suggestion(sub, kCellKeys));
+          }
+          ++k;
+        }
+        continue;
+      }
       auto it = std::find_if(schema().begin(), schema().end(), [&](const TableSpec& t) { return t.name == key; });
       if (it == schema().end()) fail("'" + key + "'", "unknown table" + suggestion(key, tables));
       if (!node.is_table()) fail("'" + key + "'", "must be a table, written [" + key + "]");
@@ -80,16 +99,36 @@ class Reader {
   }
 
   const toml::node* find(const std::string& table, const std::string& key) const {
+    if (current_ && table == current_name_) return current_->get(key);
     const toml::node* t = root_.get(table);
     if (!t || !t->is_table()) return nullptr;
     return t->as_table()->get(key);
+  }
+  // Reads the keys of one [[cell]] entry through the same checks, named "[[cell]] k".
+  void enter(const toml::table* t, const std::string& name) const { current_ = t; current_name_ = name; }
+
+  std::vector<double> list(const std::string& table, const std::string& key, const char* unit) const {
+    const std::string where = "[" + table + "] " + key;
+    std::vector<double> v;
+    const toml::node* n = find(table, key);
+    if (!n) return v;
+    const toml::array* a = n->as_array();
+    if (!a) fail(where, std::string("must be an array of numbers (in ") + unit + ")");
+    for (auto&& e : *a) {
+      if (!e.is_number()) fail(where, std::string("must be an array of numbers (in ") + unit + ")");
+      const double x = e.value<double>().value();
+      if (!std::isfinite(x) || x < 0) fail(where, "must hold finite, non-negative numbers");
+      v.push_back(x);
+    }
+    std::sort(v.begin(), v.end());
+    return v;
   }
   bool has(const std::string& table, const std::string& key) const { return find(table, key) != nullptr; }
 
   // A real number in (lo, hi] or [lo, hi] (finite), with its unit for messages.
   double number(const std::string& table, const std::string& key, const char* unit, double lo, double hi,
                 bool open_low, std::optional<double> fallback = std::nullopt) const {
-    const std::string where = "[" + table + "] " + key;
+    const std::string where = (current_ && table == current_name_ ? table : "[" + table + "]") + " " + key;
     const toml::node* n = find(table, key);
     if (!n) {
       if (fallback) return *fallback;
@@ -136,7 +175,7 @@ class Reader {
   }
 
   void pair(const std::string& table, const std::string& key, const char* unit, double out[2]) const {
-    const std::string where = "[" + table + "] " + key;
+    const std::string where = (current_ && table == current_name_ ? table : "[" + table + "]") + " " + key;
     const toml::node* n = find(table, key);
     if (!n) return;
     const toml::array* a = n->as_array();
@@ -161,6 +200,8 @@ class Reader {
  private:
   const toml::table& root_;
   std::string src_;
+  mutable const toml::table* current_ = nullptr;
+  mutable std::string current_name_;
 };
 
 void apply_override(toml::table& root, const std::string& assignment, const std::string& source) {
@@ -181,6 +222,34 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   toml::table* t = root[table].as_table();
   if (!t) throw SceneError(source + ": --set " + assignment + ": '" + table + "' is not a table");
   t->insert_or_assign(key, *parsed.get("v"));
+}
+
+// Ray casting: is p inside the closed polygon r?
+bool inside(const Points& r, const Eigen::Vector2d& p) {
+  bool in = false;
+  for (std::size_t i = 0, n = r.size(), j = n - 1; i < n; j = i++)
+    if ((r[i].y() > p.y()) != (r[j].y() > p.y()) &&
+        p.x() < (r[j].x() - r[i].x()) * (p.y() - r[i].y()) / (r[j].y() - r[i].y()) + r[i].x())
+      in = !in;
+  return in;
+}
+
+// Do two membranes overlap, in the channel periodic in x1 with period L?
+bool polygons_overlap(const Points& a, const Points& b, double L) {
+  const double ca = area_centroid(a).x();
+  auto near = [&](Eigen::Vector2d p) {  // the periodic image of p closest to a
+    p.x() -= L * std::round((p.x() - ca) / L);
+    return p;
+  };
+  for (const auto& p : b)
+    if (inside(a, near(p))) return true;
+  for (const auto& p : a) {
+    Eigen::Vector2d q = p;
+    const double cb = area_centroid(b).x();
+    q.x() -= L * std::round((q.x() - cb) / L);
+    if (inside(b, q)) return true;
+  }
+  return false;
 }
 
 }  // namespace
@@ -243,6 +312,31 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.output_every = r.number("output", "every", "s", 0, big, true, s.end / 100);
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
+  s.snapshots = r.list("output", "snapshots", "s");
+
+  s.membrane_nodes = int(r.integer("membrane", "nodes", 8, 100000, s.membrane_nodes));
+  s.membrane_radius = r.number("membrane", "radius", "m", 0, big, true, s.membrane_radius);
+  s.membrane_constants.kl = r.number("membrane", "kl", "(study's units, N m)", 0, big, true, s.membrane_constants.kl);
+  s.membrane_constants.kb = r.number("membrane", "kb", "(study's units, N m)", 0, big, false, s.membrane_constants.kb);
+  s.membrane_constants.ks = r.number("membrane", "ks", "(study's units, N m)", 0, big, false, s.membrane_constants.ks);
+  s.membrane_constants.units = r.word("membrane", "units", {"si", "cgs"}, s.membrane_constants.units);
+  s.area_penalty = r.boolean("membrane", "area_penalty", s.area_penalty);
+  if (const toml::node* cells = root.get("cell")) {
+    int k = 0;
+    for (auto&& c : *cells->as_array()) {
+      const std::string name = "[[cell]] " + std::to_string(k++);
+      r.enter(c.as_table(), name);
+      CellSpec cs;
+      double center[2] = {NAN, NAN};
+      if (!r.has(name, "center")) r.fail(name, "missing required key center = [x, y] (m)");
+      r.pair(name, "center", "m", center);
+      cs.center = {center[0], center[1]};
+      cs.swelling_ratio = r.number(name, "swelling_ratio", "(s*)", 0.0, 1.0, true);
+      cs.angle = r.number(name, "angle", "rad", -100.0, 100.0, false, 0.0);
+      s.cells.push_back(cs);
+      r.enter(nullptr, "");
+    }
+  }
 
   // The mesh must fit the channel (T_2h must exist): ChannelMesh says which side does not fit.
   try {
@@ -250,6 +344,29 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   } catch (const std::invalid_argument& e) {
     r.fail("[channel] mesh_size", e.what());
   }
+  // Cells: inside the channel and not overlapping (each prepared as the run will prepare it).
+  if (!s.cells.empty()) {
+    const MembraneModel mm = s.membrane_model();
+    std::map<double, PreparedShape> shapes;
+    std::vector<Points> placed;
+    for (std::size_t k = 0; k < s.cells.size(); ++k) {
+      const CellSpec& c = s.cells[k];
+      if (!shapes.count(c.swelling_ratio)) shapes.emplace(c.swelling_ratio, prepare_shape(mm, c.swelling_ratio));
+      placed.push_back(place_shape(shapes.at(c.swelling_ratio), c.center, c.angle));
+      for (const auto& p : placed.back())
+        if (!(p.y() > 0.0 && p.y() < s.height)) {
+          std::ostringstream m;
+          m << "the cell reaches outside the channel (a membrane node at x2 = " << p.y() * 1e6
+            << " um; the channel spans 0 < x2 < " << s.height * 1e6 << " um)";
+          r.fail("[[cell]] " + std::to_string(k), m.str());
+        }
+    }
+    for (std::size_t a = 0; a < placed.size(); ++a)
+      for (std::size_t b = a + 1; b < placed.size(); ++b)
+        if (polygons_overlap(placed[a], placed[b], s.length))
+          r.fail("[[cell]] " + std::to_string(a) + " and " + std::to_string(b), "the cells overlap");
+  }
+
   // Δt must respect the advective bound of the wave-like step.
   const ChannelFlowParams fp = s.flow_params();
   if (const double bound = advective_dt_bound(fp); s.dt > bound) {

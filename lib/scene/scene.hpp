@@ -6,22 +6,32 @@
 //             wall_velocity = [bottom, top] (m/s)
 //   [time]    dt, end (s); coupling ("explicit"); advection_substeps (Q)
 //   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance
-//   [output]  every (s between samples), vtk (bool)
+//   [output]  every (s between samples), vtk (bool), snapshots = [t, …] (s; membrane shapes)
+//   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
+//              area_penalty (E_s in the flow force, bool)            — optional, the study's values
+//   [[cell]]  center = [x, y] (m), swelling_ratio (s*), angle (rad, long axis from x1)
 //
-// Cells, disks and obstacles ([membrane], [[cell]], [[disk]], [[obstacle]]) are named in SPEC
-// section 8; this version reads cell-free channels and refuses those tables with a clear message.
+// Disks and obstacles ([[disk]], [[obstacle]], SPEC section 8) need the fictitious-domain method,
+// which this version does not have yet; such scenes are refused with a clear message.
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "fluid/channel_flow.hpp"
+#include "membrane/spring_membrane.hpp"
 
 namespace rbc {
 
 // Bad input: the message names the file, the key and what is allowed.
 struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
+};
+
+struct CellSpec {
+  Eigen::Vector2d center{0, 0};  // m
+  double swelling_ratio = 1.0;   // s*
+  double angle = 0.0;            // rad
 };
 
 struct Scene {
@@ -38,6 +48,16 @@ struct Scene {
   double cg_tolerance = 1e-10;
   double output_every = 0;  // s; 0 means end/100
   bool vtk = false;
+  std::vector<double> snapshots;  // s, sorted
+  // Cells (empty: a cell-free channel).
+  MembraneConstants membrane_constants;
+  int membrane_nodes = 76;          // N
+  double membrane_radius = 2.8e-6;  // R0, m
+  bool area_penalty = true;         // E_s in the force during the flow
+  std::vector<CellSpec> cells;
+  MembraneModel membrane_model() const {
+    return MembraneModel::from(membrane_constants, membrane_nodes, membrane_radius, area_penalty);
+  }
 
   double driving_force() const;  // f_p, N/m³, from whichever was given
   ChannelFlowParams flow_params() const;

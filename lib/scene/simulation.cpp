@@ -1,33 +1,62 @@
 #include "scene/simulation.hpp"
 
+#include <cmath>
+#include <map>
 #include <sstream>
 
 #include "diagnostics/flow_diagnostics.hpp"
 
 namespace rbc {
 
-Simulation::Simulation(const Scene& scene) : scene_(scene), flow_(scene.flow_params()) {}
+Simulation::Simulation(const Scene& scene)
+    : scene_(scene), flow_(scene.flow_params()), model_(scene.membrane_model()) {
+  if (scene.cells.empty()) return;
+  // Prepare each swelling ratio once (Remark 2.1) and place the cells.
+  std::map<double, PreparedShape> shapes;
+  for (const CellSpec& c : scene.cells) {
+    if (!shapes.count(c.swelling_ratio)) shapes.emplace(c.swelling_ratio, prepare_shape(model_, c.swelling_ratio));
+    cells_.push_back(make_cell(shapes.at(c.swelling_ratio), c.swelling_ratio, c.center, c.angle));
+  }
+  membrane_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
+}
 
 void Simulation::step() {
   last_projection_ = flow_.project();  // (1) quasi-Stokes projection → u^{n+1/3}, p^{n+1}
-  /* (2) membrane: the scene has no cells */
+  const VelocityField* f_B = nullptr;  // (2) membrane: move the nodes with u^{n+1/3}, spread F
+  if (membrane_step_) f_B = &membrane_step_->step(cells_, flow_.velocity(), scene_.dt);
   flow_.advect();                      // (3) wave-like advection → u^{n+2/3}
-  flow_.diffuse();                     // (4) diffusion with the body force → u^{n+1}
+  flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
 }
 
 void Simulation::check_health() const {
   const VelocityField& u = flow_.velocity();
   std::ostringstream s;
-  if (!all_finite(u)) {
-    s << "non-finite velocity at t = " << time() << " s (step " << steps() << ")";
-    throw RunFailure(s.str());
-  }
+  s << " at t = " << time() << " s (step " << steps() << ")";
+  const std::string when = s.str();
+  if (!all_finite(u)) throw RunFailure("non-finite velocity" + when);
   const ChannelFlowParams& p = flow_.params();
   const double cfl = max_speed(u) * p.dt / (p.advection_substeps * p.mesh_size);
   if (cfl > 1.0) {
-    s << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1 at t = "
-      << time() << " s (step " << steps() << "); lower dt or raise [time] advection_substeps";
-    throw RunFailure(s.str());
+    std::ostringstream m;
+    m << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1" << when
+      << "; lower dt or raise [time] advection_substeps";
+    throw RunFailure(m.str());
+  }
+  const double l0 = model_.rest_length();
+  for (std::size_t k = 0; k < cells_.size(); ++k) {
+    const std::string cell = "cell " + std::to_string(k);
+    for (const auto& r : cells_[k].nodes) {
+      if (!std::isfinite(r.x()) || !std::isfinite(r.y())) throw RunFailure("non-finite membrane node in " + cell + when);
+      if (r.y() <= 0.0 || r.y() >= scene_.height)
+        throw RunFailure(cell + " crossed a wall (a membrane node at x2 = " + std::to_string(r.y() * 1e6) + " um)" + when);
+    }
+    const double strain = max_strain(cells_[k].nodes, l0);
+    if (strain > kMaxMembraneStrain) {
+      std::ostringstream m;
+      m << "membrane strain " << strain << " in " << cell << " exceeds " << kMaxMembraneStrain << when
+        << ": the explicit coupling is unstable at this dt; lower [time] dt";
+      throw RunFailure(m.str());
+    }
   }
 }
 

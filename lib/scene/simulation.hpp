@@ -1,17 +1,25 @@
 #pragma once
 // A scene in motion: the parts of the method the scene needs, advanced by the study's Lie scheme.
-// A cell-free channel composes the fluid alone (no membrane code, no multiplier).
+// A cell-free channel composes the fluid alone (no membrane code); cells add the membrane step.
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "diagnostics/cell_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
+#include "immersed_boundary/explicit_coupling.hpp"
 #include "scene/scene.hpp"
 
 namespace rbc {
 
-// A run that cannot go on (instability): the message names the cause and the time.
+// A run that cannot go on (instability): the message names the cause, the time and the cell.
 struct RunFailure : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// Largest spring strain |l − l0|/l0 a healthy run may show; beyond it the explicit coupling has
+// gone unstable (the study's cells stay within a few per cent).
+inline constexpr double kMaxMembraneStrain = 1.0;
 
 class Simulation {
  public:
@@ -19,11 +27,14 @@ class Simulation {
 
   // One step of the study's Lie scheme, tⁿ → tⁿ⁺¹.
   void step();
-  // Stops the run (RunFailure) on non-finite values or a CFL number above the stability limit.
+  // Stops the run (RunFailure) on non-finite values, a CFL number above the stability limit,
+  // a membrane strain above kMaxMembraneStrain, or a membrane node outside the channel.
   void check_health() const;
 
   const ChannelFlow& flow() const { return flow_; }
   const Scene& scene() const { return scene_; }
+  const std::vector<Cell>& cells() const { return cells_; }
+  const MembraneModel& membrane() const { return model_; }
   double time() const { return flow_.time(); }
   long steps() const { return flow_.steps(); }
   int last_cg_iterations() const { return last_projection_.iterations; }
@@ -31,6 +42,9 @@ class Simulation {
  private:
   Scene scene_;
   ChannelFlow flow_;
+  MembraneModel model_;
+  std::vector<Cell> cells_;
+  std::unique_ptr<ExplicitMembraneStep> membrane_step_;  // only when the scene has cells
   ProjectionReport last_projection_;
 };
 

@@ -1,0 +1,31 @@
+#pragma once
+// Step 2 of the Lie scheme with the study's explicit coupling ("explicit" in scenes):
+//
+//   r_i^{n+1} = r_i^n + Δt U(r_i^n),   U interpolated from u^{n+1/3}            (13)-(14)
+//   F_i^{n+1} = −∂E/∂r_i (r^{n+1})                                             (8)
+//   f_B^{n+1} = Σ_i F_i^{n+1} D_h(x − r_i^{n+1})   → the force of step 4       (10)
+//
+// The spring forces are explicit, so Δt is bounded by the membrane stiffness (SPEC section 9
+// measured ≈ 4.7e-8 s at h = 0.125 µm with the study's constants read in SI).
+#include <vector>
+
+#include "membrane/cell.hpp"
+#include "mesh/channel_mesh.hpp"
+
+namespace rbc {
+
+class ExplicitMembraneStep {
+ public:
+  ExplicitMembraneStep(const ChannelMesh& mesh, const MembraneModel& model);
+  // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.
+  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt);
+  const VelocityField& force() const { return force_; }
+
+ private:
+  ChannelMesh mesh_;
+  MembraneModel model_;
+  VelocityField force_;
+  Points U_, F_;
+};
+
+}  // namespace rbc

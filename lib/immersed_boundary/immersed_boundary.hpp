@@ -1,0 +1,24 @@
+#pragma once
+// Immersed-boundary transfer between membrane nodes and the velocity mesh (SPEC section 3):
+//
+//   spread       f_B(x) = Σ_i F_i D_h(x − r_i)               (10)   F_i in N/m → f_B in N/m³
+//   interpolate  U(r_i) = Σ_x h² u(x) D_h(x − r_i)           (13)
+//   move         r_i^{n+1} = r_i^n + Δt U(r_i^n)             (14)
+//
+// Periodic in x1 (node positions are kept unwrapped; the stencil wraps). Walls: the 4 × 4 stencil
+// is truncated to the mesh nodes that exist (rows 0..ny); wall nodes carry the prescribed wall
+// velocity in the interpolation, and force spread onto them is dropped (the wall velocity is
+// prescribed, so no force can act there). Spreading and interpolation use the same weights at the
+// same positions, so with zero wall velocity they are adjoint in the lumped inner product:
+// Σ_n h² (S F)_n · u_n = Σ_i F_i · (J u)_i.
+#include "mesh/channel_mesh.hpp"
+#include "membrane/spring_membrane.hpp"
+
+namespace rbc {
+
+// Adds the spread of forces F at positions r to field (interior nodes only).
+void spread_forces(const ChannelMesh& mesh, const Points& r, const Points& F, VelocityField& field);
+// U(r_i) for every node.
+void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const Points& r, Points& U);
+
+}  // namespace rbc

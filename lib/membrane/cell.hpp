@@ -1,0 +1,25 @@
+#pragma once
+// One red blood cell: its membrane nodes and the areas it is measured against.
+#include "membrane/shape_preparation.hpp"
+
+namespace rbc {
+
+struct Cell {
+  Points nodes;               // r_i, m; x1 unwrapped (a cell that crosses x1 = L keeps going)
+  double swelling_ratio = 1;  // s*
+  double target_area = 0;     // s_e = s* π R0², m²
+  double prepared_area = 0;   // area of the prepared shape, m² (reference of the area drift)
+  double prepared_perimeter = 0;
+};
+
+inline Cell make_cell(const PreparedShape& shape, double swelling_ratio, const Eigen::Vector2d& centroid, double angle) {
+  Cell c;
+  c.nodes = place_shape(shape, centroid, angle);
+  c.swelling_ratio = swelling_ratio;
+  c.target_area = shape.target_area;
+  c.prepared_area = enclosed_area(c.nodes);
+  c.prepared_perimeter = perimeter(c.nodes);
+  return c;
+}
+
+}  // namespace rbc
