@@ -94,7 +94,33 @@ TEST(SceneInput, TimeStepAboveTheAdvectiveBoundIsRejected) {
 }
 
 TEST(SceneInput, NotYetSupportedTablesAreRefusedClearly) {
-  expect_error(scene_error(kGood + "[[cell]]\ncenter = [1e-6, 1e-6]\n"), {"[cell]", "not supported"});
+  expect_error(scene_error(kGood + "[[disk]]\ncenter = [1e-6, 1e-6]\n"), {"[[disk]]", "fictitious-domain"});
+}
+
+// A channel wide enough for cells (the study's narrow channel on a coarse mesh).
+std::string cell_channel() {
+  return replace(replace(replace(kGood, "length = 4e-6", "length = 20e-6"), "height = 2e-6", "height = 10e-6"),
+                 "mesh_size = 0.25e-6", "mesh_size = 0.5e-6");
+}
+
+TEST(SceneInput, CellsAreReadAndBadCellsAreNamed) {
+  const Scene s = parse_scene(cell_channel() + "[[cell]]\ncenter = [5e-6, 3e-6]\nswelling_ratio = 0.55\n", "scene.toml");
+  ASSERT_EQ(s.cells.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.cells[0].swelling_ratio, 0.55);
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncentre = [5e-6, 3e-6]\nswelling_ratio = 0.55\n"),
+               {"[[cell]] 0 centre", "did you mean 'center'"});
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncenter = [5e-6, 3e-6]\n"), {"[[cell]] 0 swelling_ratio", "missing"});
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncenter = [5e-6, 3e-6]\nswelling_ratio = 1.2\n"), {"swelling_ratio", "out of range"});
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncenter = [5e-6, 0.5e-6]\nswelling_ratio = 0.55\n"),
+               {"[[cell]] 0", "outside the channel"});
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncenter = [5e-6, 3e-6]\nswelling_ratio = 0.55\n"
+                                          "[[cell]]\ncenter = [7e-6, 3.5e-6]\nswelling_ratio = 0.7\n"),
+               {"[[cell]] 0 and 1", "overlap"});
+  // Overlap across the periodic boundary x1 = L = 20 um.
+  expect_error(scene_error(cell_channel() + "[[cell]]\ncenter = [1e-6, 5e-6]\nswelling_ratio = 0.55\n"
+                                          "[[cell]]\ncenter = [19.5e-6, 5e-6]\nswelling_ratio = 0.55\n"),
+               {"overlap"});
+  expect_error(scene_error(cell_channel() + "[membrane]\nunits = \"mks\"\n"), {"[membrane] units", "si"});
 }
 
 TEST(SceneInput, InvalidTomlOrBinaryInputIsRejectedWithoutCrashing) {

@@ -48,7 +48,7 @@ ShapeDescriptor describe_shape(const Points& r) {
   d.fore_aft = (c.x() - 0.5 * (xmin + xmax)) / d.length;
   const double kr = d.rear_concavity, kf = d.front_concavity, ks = d.side_concavity, a = d.fore_aft;
   if (kr > 0.05 && kf < 0.02) d.kind = "parachute";
-  else if (ks > 0.05 && kr < 0.02 && kf < 0.02) d.kind = "biconcave";
+  else if (ks > 0.02 && kr < 0.02 && kf < 0.02) d.kind = "biconcave";
   else if (kr <= 0.05 && ks <= 0.05 && a < -0.01) d.kind = "bullet";
   else if (std::max({kr, kf, ks}) < 0.02 && std::abs(a) <= 0.01) d.kind = "round";
   else d.kind = "other";

@@ -16,7 +16,7 @@
 //                    (a bullet: flat rear, round front)
 // Classification (thresholds fixed here, before any comparison with the study):
 //   parachute   κ_r > 0.05 and κ_f < 0.02
-//   biconcave   κ_s > 0.05 and κ_r < 0.02 and κ_f < 0.02
+//   biconcave   κ_s > 0.02 and κ_r < 0.02 and κ_f < 0.02
 //   bullet      κ_r ≤ 0.05, κ_s ≤ 0.05 and a < −0.01
 //   round       none of the above with max(κ) < 0.02 and |a| ≤ 0.01
 //   other       otherwise
