@@ -12,7 +12,7 @@ DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
-EXPERIMENTS := channel_flow
+EXPERIMENTS := channel_flow single_cell_migration
 
 .PHONY: all deps build test test-release test-sanitize reproduce bench clean
 
@@ -35,11 +35,12 @@ test: test-release test-sanitize
 test-release: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-# Debug build with AddressSanitizer and UndefinedBehaviorSanitizer (unit tests only).
+# Debug build with AddressSanitizer and UndefinedBehaviorSanitizer: the unit tests (the
+# experiment-level tests, named *Experiment*, run in the Release build only).
 test-sanitize: deps
 	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DRBCFLOW_SANITIZE=ON
 	cmake --build $(BUILD_SAN) -j $(JOBS) --target unit_tests rbcflow
-	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E Experiment
 
 reproduce: build
 	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi

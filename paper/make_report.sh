@@ -54,6 +54,27 @@ for exp in "$@"; do
     echo
     [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
     echo
+    if [ -f "$dir/cases.csv" ]; then
+      echo "Every run of this experiment (wall time per run, one thread each; Re averaged over the last sample interval):"
+      echo
+      awk -F, 'NR==1{h="|"; s="|"; for(i=1;i<=NF;i++){h=h" "$i" |"; s=s"---|"}; print h; print s; next}
+               {r="|"; for(i=1;i<=NF;i++){r=r" "$i" |"}; print r}' "$dir/cases.csv"
+      echo
+    fi
+    if [ -f "$dir/units_evidence.md" ]; then
+      echo "### Which reading of the 2D constants"
+      echo
+      sed -n '/^## Units/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
+      echo
+      cat "$dir/units_evidence.md"
+      echo
+    fi
+    if [ -f "experiments/$exp/README.md" ] && grep -q '^## Deviations' "experiments/$exp/README.md"; then
+      echo "### Deviations and choices"
+      echo
+      sed -n '/^## Deviations/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
+      echo
+    fi
     for fig in "$report/figures/${exp}"_*.png; do
       [ -f "$fig" ] && echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))" && echo
     done

@@ -2,10 +2,20 @@
 
 #include <cmath>
 #include <cstring>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
 
 namespace rbc {
+
+namespace {
+// FFTW's planner is not thread-safe (its execution is): plans are made and destroyed under a lock,
+// so that independent simulations may be built on different threads.
+std::mutex& fftw_planner_lock() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
 
 PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel)
     : nx_(nx), rows_(rows), nk_(nx / 2 + 1) {
@@ -62,6 +72,7 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
         fim_[(std::size_t(j) * w + o) * nk_ + k] = v.imag();
       }
   // One batch of rows real transforms of length nx, planned once.
+  std::lock_guard<std::mutex> guard(fftw_planner_lock());
   real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
   spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
   int n[] = {nx_};
@@ -70,6 +81,7 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
 }
 
 PeriodicBandedSolver::~PeriodicBandedSolver() {
+  std::lock_guard<std::mutex> guard(fftw_planner_lock());
   fftw_destroy_plan(forward_);
   fftw_destroy_plan(backward_);
   fftw_free(real_);

@@ -111,7 +111,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     }
   };
 
-  ProgressMeter progress("rbcflow", total, total * scene.dt, opt.progress);
+  ProgressMeter progress(opt.label, total, total * scene.dt, opt.progress);
   sample();
   if (!cells.empty()) snapshot_due();
   while (sim.steps() < total) {

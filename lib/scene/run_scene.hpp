@@ -17,6 +17,7 @@ struct RunOptions {
   std::string out_dir;    // created if missing
   int threads = 0;        // 0: the OpenMP default
   bool progress = true;   // progress line on stderr
+  std::string label = "rbcflow";  // names the run on the progress line
 };
 
 struct RunSummary {

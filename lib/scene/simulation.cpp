@@ -38,8 +38,9 @@ void Simulation::check_health() const {
   const double cfl = max_speed(u) * p.dt / (p.advection_substeps * p.mesh_size);
   if (cfl > 1.0) {
     std::ostringstream m;
-    m << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1" << when
-      << "; lower dt or raise [time] advection_substeps";
+    m << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1" << when;
+    if (cells_.empty()) m << "; lower dt or raise [time] advection_substeps";
+    else m << "; with cells this usually means the explicit membrane coupling went unstable: lower [time] dt";
     throw RunFailure(m.str());
   }
   const double l0 = model_.rest_length();

@@ -1,0 +1,54 @@
+// single_cell_migration: one cell in the study's narrow and wide channels (see the header).
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "single_cell_migration.hpp"
+
+int main(int argc, char** argv) {
+  namespace scm = rbc::single_cell_migration;
+  bool quick = false, check = false;
+  std::string out;
+  int threads = 0;
+  CLI::App app{"single_cell_migration: Figures 3-5 of Shi, Pan & Glowinski (2012)"};
+  app.add_option("--out", out, "output folder (default results/single_cell_migration)");
+  app.add_flag("--quick", quick, "short CI parameters (h = 0.25 um, to 1 ms)");
+  app.add_flag("--check", check, "compare with reference-data/single_cell_migration.csv; exit 1 on a failed row");
+  app.add_option("--threads", threads, "OpenMP threads for every case in turn (default: two cases at a time)")
+      ->check(CLI::Range(1, 256));
+  CLI11_PARSE(app, argc, argv);
+  scm::Params p = quick ? scm::Params::quick_params() : scm::Params{};
+  if (!out.empty()) p.out_dir = out;
+  p.threads = threads;
+  try {
+    const scm::Results r = scm::run(p);
+    std::ofstream cases(p.out_dir + "/cases.csv");
+    cases << "case,swelling_ratio,units,steps,wall_seconds,reynolds,hematocrit,y_end_um,time_to_centreline_ms,shape,area_drift\n";
+    for (const auto& [name, c] : r.cases) {
+      if (!c.failure.empty()) {
+        std::printf("%-22s FAILED: %s\n", name.c_str(), c.failure.c_str());
+        cases << name << "," << c.swelling_ratio << "," << c.units << ",failed,,,,,,,\n";
+        continue;
+      }
+      const auto& cell = c.summary.cells.at(0);
+      cases << name << "," << c.swelling_ratio << "," << c.units << "," << c.summary.steps << "," << c.summary.wall_seconds << ","
+            << c.summary.reynolds << "," << c.summary.hematocrit << "," << cell.centroid.y() * 1e6 << ","
+            << (c.time_to_centreline < 0 ? -1 : c.time_to_centreline * 1e3) << "," << cell.shape.kind << "," << cell.area_drift << "\n";
+      std::printf("%-22s %8ld steps %7.1f s  Re %.4f  Hct %.3f %%  y_end %.3f um  shape %-9s area drift %.2e\n", name.c_str(),
+                  c.summary.steps, c.summary.wall_seconds, c.summary.reynolds, c.summary.hematocrit, cell.centroid.y() * 1e6,
+                  cell.shape.kind.c_str(), cell.area_drift);
+    }
+    if (!r.units_evidence.empty()) std::ofstream(p.out_dir + "/units_evidence.md") << r.units_evidence;
+    if (!check) return 0;
+    const auto rows = rbc::load_reference_table(rbc::reference_table_path("single_cell_migration"));
+    const auto summary = rbc::check_against_reference(rows, r.measured, std::cout);
+    std::ofstream md(p.out_dir + "/check.md");
+    rbc::check_against_reference(rows, r.measured, md, true);
+    return summary.ok() ? 0 : 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "single_cell_migration: %s\n", e.what());
+    return 2;
+  }
+}
