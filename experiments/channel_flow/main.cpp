@@ -22,11 +22,7 @@ int main(int argc, char** argv) {
       std::printf("%-6s: %ld steps, %.1f s wall; max |u1 - parabola|/peak = %.2e; start-up max |U - U_exact|/U0 = %.2e\n",
                   name.c_str(), r.summary.steps, r.summary.wall_seconds, r.profile_error, r.startup_error);
     if (!check) return 0;
-    const auto rows = rbc::load_reference_table(rbc::reference_table_path("channel_flow"));
-    const auto summary = rbc::check_against_reference(rows, res.measured, std::cout);
-    std::ofstream md(p.out_dir + "/check.md");
-    rbc::check_against_reference(rows, res.measured, md, true);
-    return summary.ok() ? 0 : 1;
+    return rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "channel_flow: error: %s\n", e.what());
     return 2;

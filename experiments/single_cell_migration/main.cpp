@@ -42,11 +42,7 @@ int main(int argc, char** argv) {
     }
     if (!r.units_evidence.empty()) std::ofstream(p.out_dir + "/units_evidence.md") << r.units_evidence;
     if (!check) return 0;
-    const auto rows = rbc::load_reference_table(rbc::reference_table_path("single_cell_migration"));
-    const auto summary = rbc::check_against_reference(rows, r.measured, std::cout);
-    std::ofstream md(p.out_dir + "/check.md");
-    rbc::check_against_reference(rows, r.measured, md, true);
-    return summary.ok() ? 0 : 1;
+    return rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "single_cell_migration: %s\n", e.what());
     return 2;

@@ -96,28 +96,22 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
   const int w = 2 * band_ + 1, nk = nk_;
   auto re = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k)]; };
   auto im = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k) + 1]; };
-  // Forward substitution with the unit lower factor, all modes at once: c_j −= l_{j,p} c_p.
-  for (int j = 1; j < rows_; ++j)
-    for (int p = std::max(0, j - band_); p < j; ++p) {
-      const double* lr = &fre_[(std::size_t(j) * w + (p - j + band_)) * nk];
-      const double* li = &fim_[(std::size_t(j) * w + (p - j + band_)) * nk];
-      for (int k = 0; k < nk; ++k) {
-        const double cr = re(p, k), ci = im(p, k);
-        re(j, k) -= lr[k] * cr - li[k] * ci;
-        im(j, k) -= lr[k] * ci + li[k] * cr;
-      }
+  // c_j −= f c_q for every mode, f the factor entry (j, q).
+  auto subtract = [&](int j, int q) {
+    const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk];
+    const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk];
+    for (int k = 0; k < nk; ++k) {
+      const double cr = re(q, k), ci = im(q, k);
+      re(j, k) -= fr[k] * cr - fi[k] * ci;
+      im(j, k) -= fr[k] * ci + fi[k] * cr;
     }
+  };
+  // Forward substitution with the unit lower factor, all modes at once.
+  for (int j = 1; j < rows_; ++j)
+    for (int p = std::max(0, j - band_); p < j; ++p) subtract(j, p);
   // Back substitution with the upper factor: c_j = (c_j − Σ u_{j,q} c_q) / u_jj.
   for (int j = rows_ - 1; j >= 0; --j) {
-    for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) {
-      const double* ur = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk];
-      const double* ui = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk];
-      for (int k = 0; k < nk; ++k) {
-        const double cr = re(q, k), ci = im(q, k);
-        re(j, k) -= ur[k] * cr - ui[k] * ci;
-        im(j, k) -= ur[k] * ci + ui[k] * cr;
-      }
-    }
+    for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) subtract(j, q);
     const double* dr = &fre_[(std::size_t(j) * w + band_) * nk];
     const double* di = &fim_[(std::size_t(j) * w + band_) * nk];
     for (int k = 0; k < nk; ++k) {

@@ -129,4 +129,13 @@ CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, cons
   return s;
 }
 
+int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours,
+                        const std::string& out_dir, std::ostream& out) {
+  const auto rows = load_reference_table(reference_table_path(table));
+  const CheckSummary summary = check_against_reference(rows, ours, out);
+  std::ofstream md(out_dir + "/check.md");
+  check_against_reference(rows, ours, md, true);
+  return summary.ok() ? 0 : 1;
+}
+
 }  // namespace rbc

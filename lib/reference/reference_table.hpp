@@ -42,4 +42,10 @@ struct CheckSummary {
 CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
                                      std::ostream& out, bool markdown = false);
 
+// An experiment's --check: compares with reference-data/<table>.csv, prints the table on out,
+// writes it as Markdown to <out_dir>/check.md (for the report), returns the exit code (0, or 1 on
+// a failed row).
+int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours,
+                        const std::string& out_dir, std::ostream& out);
+
 }  // namespace rbc
