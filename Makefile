@@ -7,6 +7,7 @@ BUILD      ?= build
 BUILD_SAN  ?= build-sanitize
 JOBS       ?= $(shell nproc)
 QUICK      ?= 0
+REUSE      ?= 0    # 1: write the report from results/ already on disk (see paper/make_report.sh)
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
@@ -44,7 +45,7 @@ test-sanitize: deps
 
 reproduce: build
 	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi
-	QUICK=$(QUICK) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
+	QUICK=$(QUICK) REUSE=$(REUSE) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
 
 bench: build
 	$(BUILD)/bin/bench_channel

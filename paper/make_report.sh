@@ -38,11 +38,19 @@ out="$report/README.md.tmp"
 status=0
 for exp in "$@"; do
   dir="results/$exp"
-  echo "rbcflow: running $exp $quick_flag --check" >&2
-  start=$(date +%s)
-  "$BUILD/bin/$exp" --out "$dir" --check $quick_flag > "$dir.log" 2>&1
-  rc=$?
-  wall=$(( $(date +%s) - start ))
+  # REUSE=1: write the report from results already on disk (from the same experiment binary and
+  # parameters), e.g. after a long run started by hand; the report says so.
+  if [ "${REUSE:-0}" = "1" ] && [ -f "$dir/check.md" ]; then
+    echo "rbcflow: reusing $dir" >&2
+    grep -q FAIL "$dir/check.md" && rc=1 || rc=0
+    wall="(reused results of an earlier run of the same command: see the run times below)"
+  else
+    echo "rbcflow: running $exp $quick_flag --check" >&2
+    start=$(date +%s)
+    "$BUILD/bin/$exp" --out "$dir" --check $quick_flag > "$dir.log" 2>&1
+    rc=$?
+    wall="$(( $(date +%s) - start )) s"
+  fi
   [ $rc -ne 0 ] && status=1
   gnuplot -e "dir='$dir'; figdir='$report/figures'" "experiments/$exp/plot.gp" || status=1
   {
@@ -50,7 +58,7 @@ for exp in "$@"; do
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
-    echo "Run: \`$BUILD/bin/$exp --check $quick_flag\` — wall time ${wall} s, exit code $rc."
+    echo "Run: \`$BUILD/bin/$exp --check $quick_flag\` — wall time ${wall}, exit code $rc."
     echo
     [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
     echo
