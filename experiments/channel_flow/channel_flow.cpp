@@ -6,6 +6,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "io/csv.hpp"
+
 namespace rbc::channel_flow {
 
 namespace {
@@ -17,21 +19,6 @@ double startup_mean(double u0, double nu, double H, double t) {
   double s = 0;
   for (int n = 1; n < 200; n += 2) s += 96.0 / (std::pow(pi, 4) * std::pow(n, 4)) * std::exp(-n * n * pi * pi * nu * t / (H * H));
   return u0 * (1.0 - s);
-}
-
-std::vector<std::vector<double>> read_csv_numbers(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> r;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) r.push_back(std::stod(cell));
-    rows.push_back(r);
-  }
-  return rows;
 }
 
 }  // namespace
@@ -51,20 +38,23 @@ Results run(const Params& p) {
     // Compare with the exact solutions: the parabola at the end, the mean during start-up.
     const double mu = scene.fluid.viscosity, nu = mu / scene.fluid.density, H = scene.height;
     const double f = scene.driving_force(), u0 = f * H * H / (12 * mu), peak = 1.5 * u0;
-    std::ofstream profile(std::filesystem::path(out) / "profile_vs_parabola.csv");
+    const std::filesystem::path dir(out);
+    std::ofstream profile(dir / "profile_vs_parabola.csv");
     profile << "y,u1,parabola\n";
-    for (const auto& row : read_csv_numbers(std::filesystem::path(out) / "profile.csv")) {
-      const double exact = f * row[0] * (H - row[0]) / (2 * mu);
-      profile << row[0] << "," << row[1] << "," << exact << "\n";
-      r.profile_error = std::max(r.profile_error, std::abs(row[1] - exact) / peak);
+    const auto y = csv_column((dir / "profile.csv").string(), "y"), u1 = csv_column((dir / "profile.csv").string(), "u1");
+    for (std::size_t k = 0; k < y.size(); ++k) {
+      const double exact = f * y[k] * (H - y[k]) / (2 * mu);
+      profile << y[k] << "," << u1[k] << "," << exact << "\n";
+      r.profile_error = std::max(r.profile_error, std::abs(u1[k] - exact) / peak);
     }
-    std::ofstream startup(std::filesystem::path(out) / "startup.csv");
+    std::ofstream startup(dir / "startup.csv");
     startup << "t,mean_velocity,exact_p1_mean\n";
     const double p1 = 1.0 - std::pow(scene.mesh_size / H, 2);  // the P1 mean of the nodal parabola
-    for (const auto& row : read_csv_numbers(std::filesystem::path(out) / "series.csv")) {
-      const double exact = startup_mean(u0, nu, H, row[0]) * p1;
-      startup << row[0] << "," << row[1] << "," << exact << "\n";
-      r.startup_error = std::max(r.startup_error, std::abs(row[1] - exact) / u0);
+    const auto t = csv_column((dir / "series.csv").string(), "t"), U = csv_column((dir / "series.csv").string(), "mean_velocity");
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      const double exact = startup_mean(u0, nu, H, t[k]) * p1;
+      startup << t[k] << "," << U[k] << "," << exact << "\n";
+      r.startup_error = std::max(r.startup_error, std::abs(U[k] - exact) / u0);
     }
     res.measured[which + "_mean_velocity"] = {r.summary.mean_velocity * 100.0, {}, ""};  // cm/s
     res.measured[which + "_reynolds"] = {r.summary.reynolds, {}, ""};

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <thread>
 
+#include "io/csv.hpp"
+
 namespace rbc::single_cell_migration {
 
 namespace fs = std::filesystem;
@@ -39,25 +41,6 @@ Scene channel_scene(double L, double H, double h, double re0, double dt, double 
   s.end = end;
   s.output_every = every;
   return s;
-}
-
-// Column `name` of a CSV file with a header row.
-std::vector<double> csv_column(const fs::path& path, const std::string& name) {
-  std::ifstream in(path);
-  std::string line, cell;
-  std::getline(in, line);
-  std::stringstream hs(line);
-  int col = -1;
-  for (int k = 0; std::getline(hs, cell, ','); ++k)
-    if (cell == name) col = k;
-  if (col < 0) throw std::runtime_error(path.string() + ": no column " + name);
-  std::vector<double> v;
-  while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    for (int k = 0; std::getline(ss, cell, ','); ++k)
-      if (k == col) v.push_back(std::stod(cell));
-  }
-  return v;
 }
 
 // Figure 3's panels: each snapshot re-centred on its centroid's x1 (the cell travels hundreds
@@ -157,9 +140,9 @@ Results run(const Params& p) {
         c.swelling_ratio = job.scene.cells[0].swelling_ratio;
         c.units = job.scene.membrane_constants.units;
         c.summary = run_scene(job.scene, {out.string(), threads, p.progress, job.name});
-        c.t = csv_column(out / "series.csv", "t");
-        c.y = csv_column(out / "series.csv", "cell0_y");
-        c.hematocrit0 = csv_column(out / "series.csv", "hematocrit").front();
+        c.t = csv_column((out / "series.csv").string(), "t");
+        c.y = csv_column((out / "series.csv").string(), "cell0_y");
+        c.hematocrit0 = csv_column((out / "series.csv").string(), "hematocrit").front();
         const double mid = 0.5 * job.scene.height;
         for (std::size_t k = 0; k < c.t.size(); ++k)
           if (std::abs(c.y[k] - mid) < p.centreline_band) { c.time_to_centreline = c.t[k]; break; }

@@ -1,5 +1,7 @@
 #include "fem/divergence_stencil.hpp"
 
+#include <algorithm>
+
 namespace rbc {
 
 DivergenceStencil::DivergenceStencil(const ChannelMesh& mesh)
@@ -82,8 +84,12 @@ void DivergenceStencil::apply_transpose(const std::vector<double>& p, std::vecto
   }
   // (Bᵀp)_n = Σ_T s_T ∇φ_n|_T (in units of 1/h, already folded in):
   //   x1: −L(i,j) + L(i−1,j) + U(i−1,j−1) − U(i,j−1);   x2: −L(i,j) + L(i,j−1) − U(i−1,j) + U(i−1,j−1).
-  g1.assign(m_.velocity_nodes(), 0.0);
-  g2.assign(m_.velocity_nodes(), 0.0);
+  g1.resize(m_.velocity_nodes());
+  g2.resize(m_.velocity_nodes());
+  for (auto* g : {&g1, &g2}) {  // wall rows: not unknowns; the interior is overwritten below
+    std::fill(g->begin(), g->begin() + nx, 0.0);
+    std::fill(g->end() - nx, g->end(), 0.0);
+  }
 #pragma omp parallel for schedule(static)
   for (int j = 1; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {

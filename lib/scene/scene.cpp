@@ -234,22 +234,19 @@ bool inside(const Points& r, const Eigen::Vector2d& p) {
   return in;
 }
 
-// Do two membranes overlap, in the channel periodic in x1 with period L?
-bool polygons_overlap(const Points& a, const Points& b, double L) {
-  const double ca = area_centroid(a).x();
-  auto near = [&](Eigen::Vector2d p) {  // the periodic image of p closest to a
-    p.x() -= L * std::round((p.x() - ca) / L);
-    return p;
-  };
-  for (const auto& p : b)
-    if (inside(a, near(p))) return true;
-  for (const auto& p : a) {
-    Eigen::Vector2d q = p;
-    const double cb = area_centroid(b).x();
-    q.x() -= L * std::round((q.x() - cb) / L);
-    if (inside(b, q)) return true;
+// Does a node of `inner` lie inside `outer`, taking for each node the periodic image (period L
+// in x1) nearest to outer's centroid?
+bool any_node_inside(const Points& outer, const Points& inner, double L) {
+  const double c = area_centroid(outer).x();
+  for (Eigen::Vector2d p : inner) {
+    p.x() -= L * std::round((p.x() - c) / L);
+    if (inside(outer, p)) return true;
   }
   return false;
+}
+
+bool polygons_overlap(const Points& a, const Points& b, double L) {
+  return any_node_inside(a, b, L) || any_node_inside(b, a, L);
 }
 
 }  // namespace
