@@ -50,6 +50,10 @@ class ChannelFlow {
   // Step 4: implicit diffusion with the body force and an optional force field (u^{n+1});
   // advances the clock.
   void diffuse(const VelocityField* force_field = nullptr);
+  // After step 4: adds its response to an extra force density (N/m³) — the linearly implicit
+  // membrane force of the semi-implicit coupling. Does not advance the clock.
+  void add_force_response(const VelocityField& force_field) { diffusion_.add_force_response(u_, force_field); }
+  ImplicitDiffusion& diffusion() { return diffusion_; }
   // One step of a cell-free channel: steps 1, 3, 4 (step 2 has nothing to move).
   ProjectionReport step();
 
@@ -61,6 +65,7 @@ class ChannelFlow {
   const VelocityField& velocity() const { return u_; }
   const std::vector<double>& pressure() const { return pressure_; }
   const QuasiStokesProjection& projection() const { return projection_; }
+  QuasiStokesProjection& projection() { return projection_; }
   double time() const { return t_; }
   long steps() const { return steps_; }
 

@@ -43,4 +43,18 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
   }
 }
 
+void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField& field) {
+  const int nx = m_.nx, rows = m_.ny - 1;
+  const double h2 = m_.h * m_.h;
+  for (int c = 0; c < 2; ++c) {
+    std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
+    const std::vector<double>& g = (c == 0) ? field.u1 : field.u2;
+    for (std::size_t k = 0; k < rhs_.size(); ++k) rhs_[k] = h2 * g[nx + k];
+    solver_->solve(rhs_.data(), rhs_.data());
+    for (int k = 0, n = nx * rows; k < n; ++k) f[nx + k] += rhs_[k];
+  }
+}
+
+void ImplicitDiffusion::solve_interior(double* b) { solver_->solve(b, b); }
+
 }  // namespace rbc

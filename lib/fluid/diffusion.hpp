@@ -23,6 +23,11 @@ class ImplicitDiffusion {
   // u: u^{n+2/3} in, u^{n+1} out; wall rows of u hold the wall velocities (kept).
   // force: the uniform body force (N/m³); field: an extra nodal force density (N/m³) or null.
   void diffuse(VelocityField& u, const double body_force[2], const VelocityField* field);
+  // u += w, where w is step 4's response to the force density field (N/m³) alone:
+  // zero on the walls, no body force, no u^{n+2/3} (A w = h² field; the step is linear in f).
+  void add_force_response(VelocityField& u, const VelocityField& field);
+  // x = A⁻¹ b on the interior rows j = 1..ny-1 (nx (ny−1) values, x1 fastest), walls held at 0.
+  void solve_interior(double* b);
   double dt() const { return dt_; }
 
  private:

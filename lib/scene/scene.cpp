@@ -302,7 +302,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.dt = r.number("time", "dt", "s", 0, big, true);
   s.end = r.number("time", "end", "s", 0, big, true);
   if (s.end < s.dt) r.fail("[time] end", "must be at least one time step (dt)");
-  s.coupling = r.word("time", "coupling", {"explicit"}, s.coupling);
+  s.coupling = r.word("time", "coupling", {"explicit", "semi-implicit"}, s.coupling);
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);

@@ -17,15 +17,21 @@ Simulation::Simulation(const Scene& scene)
     if (!shapes.count(c.swelling_ratio)) shapes.emplace(c.swelling_ratio, prepare_shape(model_, c.swelling_ratio));
     cells_.push_back(make_cell(shapes.at(c.swelling_ratio), c.swelling_ratio, c.center, c.angle));
   }
-  membrane_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
+  if (scene.coupling == "semi-implicit")
+    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_);
+  else
+    explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
 }
 
 void Simulation::step() {
   last_projection_ = flow_.project();  // (1) quasi-Stokes projection → u^{n+1/3}, p^{n+1}
   const VelocityField* f_B = nullptr;  // (2) membrane: move the nodes with u^{n+1/3}, spread F
-  if (membrane_step_) f_B = &membrane_step_->step(cells_, flow_.velocity(), scene_.dt);
+  if (explicit_step_) f_B = &explicit_step_->step(cells_, flow_.velocity(), scene_.dt);
+  if (semi_implicit_step_) f_B = &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
   flow_.advect();                      // (3) wave-like advection → u^{n+2/3}
   flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
+  if (semi_implicit_step_)             //     semi-implicit: + response to −S Δt K U^{n+1}
+    flow_.add_force_response(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
 }
 
 void Simulation::check_health() const {
@@ -40,7 +46,7 @@ void Simulation::check_health() const {
     std::ostringstream m;
     m << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1" << when;
     if (cells_.empty()) m << "; lower dt or raise [time] advection_substeps";
-    else m << "; with cells this usually means the explicit membrane coupling went unstable: lower [time] dt";
+    else m << "; with cells this usually means the " << scene_.coupling << " membrane coupling went unstable: lower [time] dt";
     throw RunFailure(m.str());
   }
   const double l0 = model_.rest_length();
@@ -55,7 +61,7 @@ void Simulation::check_health() const {
     if (strain > kMaxMembraneStrain) {
       std::ostringstream m;
       m << "membrane strain " << strain << " in " << cell << " exceeds " << kMaxMembraneStrain << when
-        << ": the explicit coupling is unstable at this dt; lower [time] dt";
+        << ": the " << scene_.coupling << " coupling is unstable at this dt; lower [time] dt";
       throw RunFailure(m.str());
     }
   }

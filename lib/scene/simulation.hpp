@@ -8,6 +8,7 @@
 #include "diagnostics/cell_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
+#include "immersed_boundary/semi_implicit_coupling.hpp"
 #include "scene/scene.hpp"
 
 namespace rbc {
@@ -44,7 +45,9 @@ class Simulation {
   ChannelFlow flow_;
   MembraneModel model_;
   std::vector<Cell> cells_;
-  std::unique_ptr<ExplicitMembraneStep> membrane_step_;  // only when the scene has cells
+  // Only when the scene has cells: one of the two couplings (scene [time] coupling).
+  std::unique_ptr<ExplicitMembraneStep> explicit_step_;
+  std::unique_ptr<SemiImplicitMembraneStep> semi_implicit_step_;
   ProjectionReport last_projection_;
 };
 

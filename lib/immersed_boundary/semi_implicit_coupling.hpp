@@ -1,0 +1,54 @@
+#pragma once
+// The semi-implicit coupling ("semi-implicit" in scenes; issue 4): the study's scheme with the
+// spring force of step 4 taken linearly implicit, in the spirit of Newren, Fogelson, Guy & Kirby,
+// JCP 222 (2007). Same energies, same forces, same steps 1-3.
+//
+// Step 2 is the study's: r^{n+1} = r^n + Δt U(r^n) with u^{n+1/3}, F^{n+1} = F(r^{n+1}).
+// In step 4 the force is the one at the position the nodes will reach with u^{n+1},
+//
+//   F ≈ F(r^{n+1} + Δt J u^{n+1}) ≈ F^{n+1} − Δt K J u^{n+1}      (K: membrane_stiffness)
+//
+// so the diffusion solve A u^{n+1} = b + S F^{n+1} − Δt S K J u^{n+1} is implicit in the stiff part
+// of the membrane. The velocity that will move the nodes is the projected one (step 1 of the next
+// step), so J u^{n+1} above means J P u^{n+1}. Step 4 is linear in the force, so with
+// u⁰ = A⁻¹(b + S F^{n+1}) (the explicit step 4) and M = J P A⁻¹ P S (StepMobility), the node
+// velocities U = J P u^{n+1} solve the small system
+//
+//   (I + Δt M K) U = J P u⁰                                 (2N unknowns per cell)
+//
+// and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve and one more projection per step.
+// With M and K positive semi-definite
+// every membrane mode is damped like backward Euler, whatever Δt: the stable Δt is set by the
+// flow (the advective bound), not by k_l and k_b. With several cells each cell solves its own
+// system (its self-mobility); the pull of one cell on another stays explicit (block Jacobi),
+// which is consistent and leaves only the weak, smooth cross-cell coupling explicit.
+#include <vector>
+
+#include "fluid/channel_flow.hpp"
+#include "immersed_boundary/explicit_coupling.hpp"
+#include "immersed_boundary/step_mobility.hpp"
+
+namespace rbc {
+
+class SemiImplicitMembraneStep {
+ public:
+  SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model);
+  // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
+  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
+  // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the force density −S Δt K U (N/m³) whose
+  // step-4 response turns u⁰ into u^{n+1}.
+  const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
+
+ private:
+  ChannelFlow& flow_;
+  ChannelMesh mesh_;
+  MembraneModel model_;
+  double dt_;
+  VelocityField projected_;             // P u⁰
+  std::vector<double> pressure_;        // its pressure, the warm start of the next predictor
+  ExplicitMembraneStep move_;
+  StepMobility mobility_;
+  VelocityField correction_;
+};
+
+}  // namespace rbc

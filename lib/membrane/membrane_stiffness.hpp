@@ -1,0 +1,23 @@
+#pragma once
+// The stiffness of the spring membrane, for the linearly implicit coupling (issue 4):
+//
+//   F(r + δr) ≈ F(r) − K δr,     K ≈ ∂²(E_l + E_b + E_s)/∂r²                      (5)-(8)
+//
+// We keep the positive semi-definite part of the Hessian, so that the implicit step can only
+// damp (a backward-Euler step of dr/dt = −M K r with M, K ⪰ 0 has amplification 1/(1 + Δt λ)):
+//
+//   spring i, d = r_{i+1} − r_i, e = d/|d|:  (k_l/l0²) e eᵀ + (k_l (l − l0)⁺/(l0² l)) (I − e eᵀ)
+//                       (exact for a stretched spring; a compressed one keeps the axial part)
+//   bending node i:     k_b ∇t ∇tᵀ        (Gauss–Newton: drops k_b t ∇²t, t = tan(θ/2) ≈ π/N)
+//   area penalty:       (k_s/s_e²) ∇s ∇sᵀ  (Gauss–Newton: exact at s = s_e)
+//
+// K is 2N × 2N with unknowns ordered (x_1, y_1, x_2, y_2, …), units N/m per m (J/m³ per depth).
+#include <Eigen/Dense>
+
+#include "membrane/spring_membrane.hpp"
+
+namespace rbc {
+
+Eigen::MatrixXd membrane_stiffness(const MembraneModel& m, const Points& r, double target_area);
+
+}  // namespace rbc
