@@ -114,3 +114,108 @@ TEST(StepMobility, EqualsSpreadSolveProjectInterpolate) {
 
 }  // namespace
 }  // namespace rbc
+
+namespace rbc {
+namespace {
+
+// Runs a scene to t_end; returns the cells.
+std::vector<Cell> run_to(Scene s, const std::string& coupling, double dt, double t_end, int substeps = 1) {
+  s.coupling = coupling;
+  s.dt = dt;
+  s.advection_substeps = substeps;
+  s.end = t_end;
+  Simulation sim(s);
+  const long n = std::lround(t_end / dt);
+  for (long k = 0; k < n; ++k) {
+    sim.step();
+    sim.check_health();
+  }
+  return sim.cells();
+}
+
+// Largest distance between corresponding nodes once the centroids are put on top of each other,
+// m: the shape difference.
+double shape_distance(const Points& a, const Points& b) {
+  const Eigen::Vector2d d = area_centroid(a) - area_centroid(b);
+  double m = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) m = std::max(m, (a[i] - b[i] - d).norm());
+  return m;
+}
+
+TEST(SemiImplicitValidationExperiment, NarrowChannelSingleCellConvergesToTheExplicitScheme) {
+  // The study's narrow channel on h = 0.25 µm (our explicit limit there is ≈ 7e-8 s), one
+  // s* = 0.55 cell from (5, 3) µm, to t = 0.25 ms. Reference: the explicit scheme at Δt = 2e-8 s.
+  // The semi-implicit scheme at Δt = 1, 2, 4 × 1e-7 s (up to 6 times the explicit limit; the
+  // 20-fold target is checked on the wide channel by bench_channel and the stability map).
+  // Claims, stated before the run: (a) its Δt error is first order — successive differences
+  // halve with Δt, ratio 2 (accepted 1.5 … 2.7, order 0.6 … 1.4); (b) the first-order
+  // (Richardson) extrapolation of the semi-implicit heights agrees with the explicit reference
+  // within the reference's own first-order error, slope · 2e-8 s, doubled for the O(Δt²) rest;
+  // (c) shapes: the centroid-aligned node distance to the explicit shape at 1e-7 s is below
+  // 1 % of R0 and shrinks with Δt.
+  Scene s;
+  s.source = "test";
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = 0.25e-6;
+  s.reynolds0 = 0.5556;
+  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  const double T = 2.5e-4;
+  const std::vector<Cell> ex = run_to(s, "explicit", 2e-8, T);
+  const std::vector<Cell> s1 = run_to(s, "semi-implicit", 1e-7, T), s2 = run_to(s, "semi-implicit", 2e-7, T),
+                          s4 = run_to(s, "semi-implicit", 4e-7, T);
+  auto y = [](const std::vector<Cell>& c) { return area_centroid(c[0].nodes).y(); };
+  const double d12 = y(s2) - y(s1), d24 = y(s4) - y(s2);
+  const double slope = d12 / 1e-7;  // dy/dΔt, m/s
+  const double extrapolated = y(s1) - slope * 1e-7;
+  const double tol = 2 * std::abs(slope) * 2e-8;
+  const double sh1 = shape_distance(s1[0].nodes, ex[0].nodes), sh2 = shape_distance(s2[0].nodes, ex[0].nodes);
+  std::printf("y(0.25 ms): explicit %.5f um; semi-implicit %.5f %.5f %.5f um (dt = 1, 2, 4e-7 s)\n", y(ex) * 1e6, y(s1) * 1e6,
+              y(s2) * 1e6, y(s4) * 1e6);
+  std::printf("difference ratio %.3f; extrapolated %.5f um vs explicit, |diff| %.2e um (tolerance %.2e um)\n", d24 / d12,
+              extrapolated * 1e6, std::abs(extrapolated - y(ex)) * 1e6, tol * 1e6);
+  std::printf("shape distance to explicit: %.4f um (1e-7 s), %.4f um (2e-7 s)\n", sh1 * 1e6, sh2 * 1e6);
+  EXPECT_GT(y(ex) - 3e-6, 0.4e-6);  // the cell migrates (measured 0.565 um)
+  EXPECT_GT(d24 / d12, 1.5);
+  EXPECT_LT(d24 / d12, 2.7);
+  EXPECT_LT(std::abs(extrapolated - y(ex)), tol);
+  EXPECT_LT(sh1, 0.01 * 2.8e-6);
+  EXPECT_LT(sh1, sh2);
+}
+
+TEST(SemiImplicitValidationExperiment, WideChannelFourCellsConvergeToTheExplicitScheme) {
+  // The study's four-cell set-up (SPEC 5.2: s* = 1 at (25, 10), (25, 40), (65, 10), (65, 40) µm,
+  // 100 × 50 µm, h = 0.3125 µm, Re0 = 2.778), 0.1 ms. Reference: explicit at 3e-8 s (9e-8 s,
+  // stable with one s* = 0.55 cell, is not with these s* = 1 cells: measured). Semi-implicit at
+  // 1e-6 and 2e-6 s (Q = 2). Claims, stated before the run: every centroid
+  // coordinate's difference to the explicit one shrinks with Δt, and at 1e-6 s it is within
+  // 2 % of that cell's displacement over the run plus 1 nm; shapes within 1 % of R0.
+  Scene s;
+  s.source = "test";
+  s.length = 100e-6;
+  s.height = 50e-6;
+  s.mesh_size = 0.3125e-6;
+  s.reynolds0 = 2.778;
+  for (const auto& c : {Eigen::Vector2d(25e-6, 10e-6), Eigen::Vector2d(25e-6, 40e-6), Eigen::Vector2d(65e-6, 10e-6),
+                        Eigen::Vector2d(65e-6, 40e-6)})
+    s.cells.push_back({c, 1.0, 0.0});
+  const double T = 1e-4;
+  const std::vector<Cell> ex = run_to(s, "explicit", 3e-8, T, 1);
+  const std::vector<Cell> s1 = run_to(s, "semi-implicit", 1e-6, T, 2), s2 = run_to(s, "semi-implicit", 2e-6, T, 2);
+  for (int c = 0; c < 4; ++c) {
+    const Eigen::Vector2d e = area_centroid(ex[c].nodes), a = area_centroid(s1[c].nodes), b = area_centroid(s2[c].nodes);
+    const Eigen::Vector2d moved = e - s.cells[c].center;
+    const double shape = shape_distance(s1[c].nodes, ex[c].nodes);
+    std::printf("cell %d: moved (%.4f, %.4f) um; semi-implicit - explicit at 1e-6 s (%.2e, %.2e) um, at 2e-6 s (%.2e, %.2e) um; "
+                "shape %.2e um\n", c, moved.x() * 1e6, moved.y() * 1e6, (a - e).x() * 1e6, (a - e).y() * 1e6, (b - e).x() * 1e6,
+                (b - e).y() * 1e6, shape * 1e6);
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_LE(std::abs((a - e)[k]), std::abs((b - e)[k]) + 1e-9) << "cell " << c << " coordinate " << k;
+      EXPECT_LT(std::abs((a - e)[k]), 0.02 * std::abs(moved[k]) + 1e-9) << "cell " << c << " coordinate " << k;
+    }
+    EXPECT_LT(shape, 0.01 * 2.8e-6) << "cell " << c;
+  }
+}
+
+}  // namespace
+}  // namespace rbc

@@ -18,8 +18,14 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check, "compare with reference-data/single_cell_migration.csv; exit 1 on a failed row");
   app.add_option("--threads", threads, "OpenMP threads for every case in turn (default: two cases at a time)")
       ->check(CLI::Range(1, 256));
+  std::string only;
+  bool reuse = false;
+  app.add_option("--only", only, "run only the cases whose name starts with this (e.g. wide, narrow_si)");
+  app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
   CLI11_PARSE(app, argc, argv);
   scm::Params p = quick ? scm::Params::quick_params() : scm::Params{};
+  p.only = only;
+  p.reuse = reuse;
   if (!out.empty()) p.out_dir = out;
   p.threads = threads;
   try {

@@ -113,12 +113,20 @@ Results run(const Params& p) {
     other.source = "single_cell_migration narrow " + p.other_units + " s*=" + std::to_string(s);
     jobs.push_back({"narrow_" + p.other_units + "_" + tag(s), other});
     }
-    Scene wide = channel_scene(100e-6, 50e-6, p.wide_mesh, 2.778, p.wide_dt, p.wide_end, 10 * p.sample_every);
+    Scene wide = channel_scene(100e-6, 50e-6, p.wide_mesh, 2.778, p.wide_dt, p.wide_end, p.wide_every);
     wide.cells.push_back({{25e-6, p.wide_y0}, s, 0.0});
     wide.membrane_constants.units = p.units;
-    wide.source = "single_cell_migration wide " + p.units + " s*=" + std::to_string(s);
+    wide.coupling = p.wide_coupling;
+    wide.advection_substeps = p.wide_substeps;
+    wide.snapshots = {0.0, 0.1, 0.2, 0.4, 0.8};
+    char src[160];
+    std::snprintf(src, sizeof src, "single_cell_migration wide %s s*=%g %s dt=%g s end=%g s", p.units.c_str(), s,
+                  p.wide_coupling.c_str(), p.wide_dt, p.wide_end);
+    wide.source = src;
     jobs.push_back({"wide_" + p.units + "_" + tag(s), wide});
   }
+  if (!p.only.empty())
+    std::erase_if(jobs, [&](const Job& j) { return j.name.rfind(p.only, 0) != 0; });
   // The longest first, two at a time with one thread each (the cases are independent).
   std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return a.scene.end / a.scene.dt > b.scene.end / b.scene.dt; });
   Results res;
@@ -139,7 +147,8 @@ Results run(const Params& p) {
         c.name = job.name;
         c.swelling_ratio = job.scene.cells[0].swelling_ratio;
         c.units = job.scene.membrane_constants.units;
-        c.summary = run_scene(job.scene, {out.string(), threads, p.progress, job.name});
+        const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), job.scene) : std::nullopt;
+        c.summary = done ? *done : run_scene(job.scene, {out.string(), threads, p.progress, job.name});
         c.t = csv_column((out / "series.csv").string(), "t");
         c.y = csv_column((out / "series.csv").string(), "cell0_y");
         c.hematocrit0 = csv_column((out / "series.csv").string(), "hematocrit").front();
@@ -171,6 +180,7 @@ Results run(const Params& p) {
     b.join();
   }
   if (!failure.empty()) throw RunFailure(failure);
+  if (!p.only.empty()) return res;  // a part: no comparison with the study
 
   // The study's rows (reference-data/single_cell_migration.csv).
   auto narrow = [&](double s) -> const Case& { return res.cases.at("narrow_" + p.units + "_" + tag(s)); };

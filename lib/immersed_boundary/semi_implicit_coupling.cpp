@@ -1,6 +1,8 @@
 #include "immersed_boundary/semi_implicit_coupling.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "immersed_boundary/immersed_boundary.hpp"
 #include "membrane/membrane_stiffness.hpp"
@@ -16,16 +18,106 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       pressure_(flow.mesh().pressure_nodes(), 0.0),
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
-      correction_(flow.mesh()) {}
+      correction_(flow.mesh()),
+      work_(flow.mesh()),
+      work_pressure_(flow.mesh().pressure_nodes(), 0.0) {}
+
+namespace {
+Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
+  Points p(n);
+  for (int i = 0; i < n; ++i) p[i] = Eigen::Vector2d(v[offset + 2 * i], v[offset + 2 * i + 1]);
+  return p;
+}
+}  // namespace
+
+Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
+  // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
+  std::fill(work_.u1.begin(), work_.u1.end(), 0.0);
+  std::fill(work_.u2.begin(), work_.u2.end(), 0.0);
+  VelocityField f(mesh_);
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const Eigen::VectorXd kv = blocks_[c].K * v.segment(offset_[c], blocks_[c].K.rows());
+    spread_forces(mesh_, cells[c].nodes, as_points(kv, 0, int(cells[c].nodes.size())), f);
+  }
+  flow_.diffusion().add_force_response(work_, f);
+  flow_.projection().project(work_, work_pressure_, flow_.params().fluid.density, dt_);
+  Eigen::VectorXd out = v;
+  Points U;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    interpolate_velocity(mesh_, work_, cells[c].nodes, U);
+    out.segment(offset_[c], 2 * U.size()) += dt_ * Eigen::Map<const Eigen::VectorXd>(U[0].data(), 2 * U.size());
+  }
+  return out;
+}
+
+Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v) const {
+  Eigen::VectorXd out(v.size());
+  for (std::size_t c = 0; c < blocks_.size(); ++c) {
+    const Eigen::Index n = blocks_[c].K.rows();
+    out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
+  }
+  return out;
+}
+
+Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b) {
+  // GMRES on (I + Δt M K) B⁻¹ y = b, U = B⁻¹ y, with B = blockdiag(I + Δt M_cc K_c): each cell's
+  // own system (exact, from StepMobility), so only the cell-to-cell coupling is left to iterate.
+  const int max_it = kCouplingMaxIterations;
+  const double bnorm = b.norm();
+  Eigen::MatrixXd V(b.size(), max_it + 1), H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(max_it + 1), cs(max_it), sn(max_it);
+  V.col(0) = b / bnorm;
+  g[0] = bnorm;
+  int k = 0;
+  last_iterations_ = 0;
+  for (; k < max_it; ++k) {
+    Eigen::VectorXd w = apply_full(cells, precondition(V.col(k)));
+    for (int i = 0; i <= k; ++i) {  // modified Gram–Schmidt
+      H(i, k) = V.col(i).dot(w);
+      w -= H(i, k) * V.col(i);
+    }
+    H(k + 1, k) = w.norm();
+    if (H(k + 1, k) > 0) V.col(k + 1) = w / H(k + 1, k);
+    for (int i = 0; i < k; ++i) {  // previous Givens rotations
+      const double t = cs[i] * H(i, k) + sn[i] * H(i + 1, k);
+      H(i + 1, k) = -sn[i] * H(i, k) + cs[i] * H(i + 1, k);
+      H(i, k) = t;
+    }
+    const double rr = std::hypot(H(k, k), H(k + 1, k));
+    cs[k] = H(k, k) / rr;
+    sn[k] = H(k + 1, k) / rr;
+    H(k, k) = rr;
+    H(k + 1, k) = 0;
+    g[k + 1] = -sn[k] * g[k];
+    g[k] = cs[k] * g[k];
+    last_iterations_ = k + 1;
+    if (std::abs(g[k + 1]) <= kCouplingTolerance * bnorm) {
+      ++k;
+      break;
+    }
+  }
+  if (std::abs(g[k]) > kCouplingTolerance * bnorm && k == max_it)
+    throw std::runtime_error("semi-implicit coupling: the cell-to-cell system did not converge in " +
+                             std::to_string(max_it) + " GMRES iterations");
+  const Eigen::VectorXd y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
+  return precondition(V.leftCols(k) * y);
+}
 
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
   std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
   std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
   const int ncells = int(cells.size());
-  std::vector<Points> dF(ncells);
   // P u⁰: the velocity step 1 would hand to step 2 without the correction.
   projected_ = u;
   flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
+  // With several cells the blocks only precondition GMRES (the matrix-vector product is exact),
+  // so they are rebuilt every kBlockRefreshSteps steps; one cell's block is its whole system.
+  const bool rebuild = ncells == 1 || int(blocks_.size()) != ncells || steps_since_rebuild_ >= kBlockRefreshSteps;
+  steps_since_rebuild_ = rebuild ? 1 : steps_since_rebuild_ + 1;
+  blocks_.resize(ncells);
+  offset_.assign(ncells + 1, 0);
+  for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
+  Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     const Points& r = cells[c].nodes;
@@ -33,20 +125,25 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     // U⁰ = J P u⁰ at the nodes, unknowns (x_1, y_1, x_2, …).
     Points U0;
     interpolate_velocity(mesh_, projected_, r, U0);
-    const Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * n);
-    // I + Δt M K.
+    rhs.segment(offset_[c], 2 * n) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * n);
+    // The cell's own system I + Δt M_cc K_c, factored once.
+    blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
+    if (!rebuild) continue;
     Eigen::MatrixXd M;
     mobility_.matrix(r, M);
-    const Eigen::MatrixXd K = membrane_stiffness(model_, r, cells[c].target_area);
-    Eigen::MatrixXd A = dt_ * (M * K);
-    A.diagonal().array() += 1.0;
-    const Eigen::VectorXd U = A.partialPivLu().solve(rhs);
-    // ΔF = −Δt K U, the change of the spring force over the coming step.
-    const Eigen::VectorXd f = -dt_ * (K * U);
-    dF[c].resize(n);
-    for (int i = 0; i < n; ++i) dF[c][i] = Eigen::Vector2d(f[2 * i], f[2 * i + 1]);
+    Eigen::MatrixXd B = dt_ * (M * blocks_[c].K);
+    B.diagonal().array() += 1.0;
+    blocks_[c].lu.compute(B);
   }
-  for (int c = 0; c < ncells; ++c) spread_forces(mesh_, cells[c].nodes, dF[c], correction_);
+  // One cell: its own system is the whole system. Several: the coupled solve.
+  last_iterations_ = 0;
+  const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
+  // ΔF = −Δt K U, the change of the spring force over the coming step.
+  for (int c = 0; c < ncells; ++c) {
+    const Eigen::Index n = blocks_[c].K.rows();
+    const Eigen::VectorXd f = -dt_ * (blocks_[c].K * U.segment(offset_[c], n));
+    spread_forces(mesh_, cells[c].nodes, as_points(f, 0, int(n / 2)), correction_);
+  }
   return correction_;
 }
 

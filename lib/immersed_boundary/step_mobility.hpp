@@ -18,8 +18,9 @@
 // T_αβ(i' mod 2, i − i', j, j') = component α at node (i, j) of P A⁻¹ applied to a unit value in
 // component β at node (i', j') — one source per column parity, interior row and component
 // (4 (ny−1) fast solves and projections; 8 nx (ny−1)² values, 520 MB at 320 × 160). M of any set
-// of nodes then costs 16 × 7 reads of 8 contiguous values per pair. M equals the long way
-// (spread, solve, P, interpolate) to the projection's tolerance — a test checks it.
+// of nodes then costs 64 multiply-adds per pair and per (node, footprint node), see matrix().
+// M equals the long way (spread, solve, P, interpolate) to the projection's tolerance — a test
+// checks it.
 #include <vector>
 
 #include <Eigen/Dense>

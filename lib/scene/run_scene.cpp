@@ -71,7 +71,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   const double fluid_area = scene.length * scene.height;
 
   std::ofstream series(out / "series.csv");
-  series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations";
+  series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
   for (std::size_t k = 0; k < cells.size(); ++k)
     for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
   series << "\n";
@@ -90,7 +90,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     u_sum = 0;
     u_count = 0;
     series << sim.time() << "," << last_mean << "," << reynolds_number(last_mean, scene.fluid, scene.height) << ","
-           << hematocrit_percent(cells, fluid_area) << "," << max_speed(flow.velocity()) << "," << sim.last_cg_iterations();
+           << hematocrit_percent(cells, fluid_area) << "," << max_speed(flow.velocity()) << "," << sim.last_cg_iterations() << "," << sim.last_coupling_iterations();
     for (const Cell& c : cells) {
       const CellState s = measure_cell(c, l0);
       series << "," << s.centroid.x() << "," << s.centroid.y() << "," << s.area << "," << s.perimeter << ","
@@ -191,6 +191,45 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["units"] = "SI: m, s, kg; velocities m/s, forces N/m^3, areas m^2, hematocrit %";
   std::ofstream(out / "summary.json") << j.dump(2) << "\n";
   return s;
+}
+
+std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene) {
+  const fs::path path = fs::path(dir) / "summary.json";
+  if (!fs::exists(path)) return std::nullopt;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
+    if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
+        std::abs(j.at("t_end").get<double>() - scene.end) > 0.5 * scene.dt)
+      return std::nullopt;
+    RunSummary s;
+    s.steps = j.at("steps");
+    s.t_end = j.at("t_end");
+    s.wall_seconds = j.at("wall_seconds");
+    s.mean_velocity = j.at("mean_velocity");
+    s.reynolds = j.at("reynolds");
+    s.hematocrit = j.at("hematocrit");
+    s.max_speed = j.at("max_speed");
+    for (const auto& c : j.at("cells")) {
+      CellState cs;
+      cs.centroid = Eigen::Vector2d(c.at("centroid")[0].get<double>(), c.at("centroid")[1].get<double>());
+      cs.area = c.at("area");
+      cs.perimeter = c.at("perimeter");
+      cs.area_drift = c.at("area_drift");
+      cs.max_strain = c.at("max_strain");
+      const auto& sh = c.at("shape");
+      cs.shape.kind = sh.at("kind");
+      cs.shape.rear_concavity = sh.at("rear_concavity");
+      cs.shape.front_concavity = sh.at("front_concavity");
+      cs.shape.side_concavity = sh.at("side_concavity");
+      cs.shape.fore_aft = sh.at("fore_aft");
+      cs.shape.length = sh.at("length");
+      cs.shape.width = sh.at("width");
+      s.cells.push_back(cs);
+    }
+    return s;
+  } catch (const std::exception&) {
+    return std::nullopt;  // unreadable or from another version: run again
+  }
 }
 
 }  // namespace rbc

@@ -7,6 +7,7 @@
 //   membranes_final.dat  the membranes at the end
 //   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
 //   vtk/          ParaView files of the velocity, when [output] vtk = true
+#include <optional>
 #include <string>
 
 #include "scene/simulation.hpp"
@@ -31,6 +32,10 @@ struct RunSummary {
 // Throws SceneError (output folder not writable) or RunFailure (instability); in the latter case
 // series.csv holds every sample up to the failure.
 RunSummary run_scene(const Scene& scene, const RunOptions& options);
+
+// The summary of a finished run of this scene in dir (summary.json naming the same scene source,
+// Δt, coupling and end time), or nothing.
+std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene);
 
 // Creates dir (and parents) and checks that a file can be written in it; throws SceneError.
 void prepare_output_dir(const std::string& dir);

@@ -39,6 +39,8 @@ class Simulation {
   double time() const { return flow_.time(); }
   long steps() const { return flow_.steps(); }
   int last_cg_iterations() const { return last_projection_.iterations; }
+  // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
+  int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
 
  private:
   Scene scene_;

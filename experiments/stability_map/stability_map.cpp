@@ -1,0 +1,210 @@
+#include "stability_map.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "scene/simulation.hpp"
+
+namespace rbc::stability_map {
+
+Params Params::quick_params() {
+  Params p;
+  p.quick = true;
+  p.out_dir = "results/stability_map_quick";
+  p.mesh_sizes = {0.5e-6, 0.25e-6};
+  p.kl_scales = {0.1, 1, 10};
+  p.kb_scales = {1000};
+  p.steps = 200;
+  p.ratio = 1.3;
+  return p;
+}
+
+namespace {
+
+// The narrow channel of the study with one s* = 0.55 cell at (5, 3) µm.
+Scene narrow_scene(double h, const std::string& coupling, double kl_scale, double kb_scale) {
+  Scene s;
+  s.source = "stability_map";
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = h;
+  s.reynolds0 = 0.5556;
+  s.coupling = coupling;
+  s.membrane_constants.kl *= kl_scale;
+  s.membrane_constants.kb *= kb_scale;
+  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  return s;
+}
+
+double advective_bound_q1(const Scene& s) {
+  Scene t = s;
+  t.advection_substeps = 1;
+  return advective_dt_bound(t.flow_params());
+}
+
+// Runs a scene at dt for the trial length; returns "" if stable, else the cause.
+std::string trial(Scene s, double dt, int steps, double min_time, double& wall) {
+  const double bound1 = advective_bound_q1(s);
+  s.dt = dt;
+  s.advection_substeps = std::max(1, int(std::ceil(dt / bound1 * (1 + 1e-12))));
+  const long n = std::max<long>(steps, long(std::ceil(min_time / dt)));
+  s.end = n * dt;
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    Simulation sim(s);
+    for (long k = 0; k < n; ++k) {
+      sim.step();
+      sim.check_health();
+    }
+  } catch (const RunFailure& e) {
+    wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::string m = e.what();
+    return m.substr(0, m.find(':'));  // the cause's name ("CFL", "membrane strain …", …)
+  }
+  wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return "";
+}
+
+Point bisect(const Params& p, const std::string& coupling, double h, double kl, double kb) {
+  Point pt;
+  pt.coupling = coupling;
+  pt.h = h;
+  pt.kl_scale = kl;
+  pt.kb_scale = kb;
+  const Scene s = narrow_scene(h, coupling, kl, kb);
+  pt.cap = p.max_substeps * advective_bound_q1(s);
+  double wall = 0;
+  // Bracket: the explicit search starts near our measured limit (3e-8 s at h = 0.125 µm) scaled
+  // by h and roughly by the stiffness; the semi-implicit one at the cap. Steps of ×3 / ÷3.
+  double lo = 0, hi = 0;
+  double dt = std::min(pt.cap, 3e-8 * (h / 0.125e-6) / std::pow(std::max(kl, kb / 100), 0.6));
+  if (coupling != "explicit") dt = pt.cap;
+  for (int guard = 0; guard < 40 && (lo == 0 || hi == 0); ++guard) {
+    const std::string cause = trial(s, dt, p.steps, p.min_time, wall);
+    ++pt.trials;
+    if (cause.empty()) {
+      lo = dt;
+      if (dt >= pt.cap) break;
+      dt = std::min(pt.cap, dt * 3);
+    } else {
+      hi = dt;
+      pt.cause = cause;
+      dt /= 3;
+    }
+  }
+  while (lo > 0 && hi > 0 && hi / lo > p.ratio) {
+    const double mid = std::sqrt(lo * hi);
+    const std::string cause = trial(s, mid, p.steps, p.min_time, wall);
+    ++pt.trials;
+    if (cause.empty()) lo = mid;
+    else { hi = mid; pt.cause = cause; }
+  }
+  pt.stable = lo;
+  pt.unstable = hi;
+  return pt;
+}
+
+Extreme run_extreme(const std::string& name, const std::string& what, Scene s, const Params& p) {
+  Extreme e;
+  e.name = name;
+  e.what = what;
+  e.coupling = s.coupling;
+  e.dt = s.dt;
+  e.end = s.end;
+  double wall = 0;
+  const long steps = long(std::llround(s.end / s.dt));
+  const std::string cause = trial(s, s.dt, int(steps), 0.0, wall);
+  e.stable = cause.empty();
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "ran %ld steps to t = %.3g s", steps, s.end);
+  e.outcome = e.stable ? buf : "stopped: " + cause;
+  e.wall_seconds = wall;
+  if (p.progress) std::printf("  extreme %-22s %-14s dt %.2g s: %s (%.1f s)\n", name.c_str(), s.coupling.c_str(), s.dt, e.outcome.c_str(), wall);
+  return e;
+}
+
+std::vector<Extreme> extremes(const Params& p) {
+  // SPEC section 7's extreme cases, each run with the semi-implicit coupling at the flow's Δt
+  // (the advective bound with Q = 2, capped at 1e-6 s) on h = 0.25 µm, for 0.5 ms (0.2 ms quick).
+  std::vector<Extreme> out;
+  const double h = 0.25e-6, end = p.quick ? 2e-4 : 5e-4;
+  auto base = [&](double re0) {
+    Scene s = narrow_scene(h, "semi-implicit", 1, 1);
+    s.reynolds0 = re0;
+    s.advection_substeps = 2;
+    s.dt = std::min(1e-6, 0.99 * advective_dt_bound(s.flow_params()));
+    s.end = std::ceil(end / s.dt) * s.dt;
+    return s;
+  };
+  for (double re0 : {0.01, 50.0}) {
+    Scene s = base(re0);
+    char n[32];
+    std::snprintf(n, sizeof n, "Re0 = %g", re0);
+    out.push_back(run_extreme(n, "one s* = 0.55 cell at (5, 3) um", s, p));
+  }
+  {
+    // The prepared s* = 0.55 shape lying flat: its lowest node one mesh cell above the wall.
+    Scene s = base(0.5556);
+    const MembraneModel m = s.membrane_model();
+    const PreparedShape shape = prepare_shape(m, 0.55);
+    const Points r = place_shape(shape, {0, 0}, 0.0);
+    double ymin = 1e9;
+    for (const auto& q : r) ymin = std::min(ymin, q.y());
+    s.cells[0].center = {5e-6, h - ymin};
+    out.push_back(run_extreme("one cell from the wall", "lowest node h = 0.25 um above the wall", s, p));
+  }
+  {
+    Scene s = base(0.5556);
+    s.cells.clear();
+    for (int i = 0; i < 5; ++i) s.cells.push_back({{(2.0 + 4.0 * i) * 1e-6, 5e-6}, 0.55, 1.5707963});
+    out.push_back(run_extreme("Hct 34 %", "five s* = 0.55 cells across the flow, 4 um apart (Hct 33.9 %)", s, p));
+  }
+  {
+    Scene s = base(0.5556);
+    s.cells[0].swelling_ratio = 0.481;
+    out.push_back(run_extreme("s* = 0.481", "the study's most deflated cell (no constriction yet)", s, p));
+  }
+  {
+    Scene s = base(0.5556);
+    s.membrane_constants.kb *= 1000;
+    s.membrane_constants.kl *= 100;
+    out.push_back(run_extreme("k_l x100, k_b x1000", "the stiffest corner of the map", s, p));
+  }
+  return out;
+}
+
+}  // namespace
+
+Results run(const Params& p) {
+  std::filesystem::create_directories(p.out_dir);
+  Results res;
+  std::ofstream csv(p.out_dir + "/stability_map.csv");
+  csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
+  auto record = [&](const Point& pt) {
+    res.points.push_back(pt);
+    csv << pt.coupling << "," << pt.h * 1e6 << "," << pt.kl_scale << "," << pt.kb_scale << "," << pt.stable << ","
+        << pt.unstable << "," << pt.cap << "," << pt.cause << "," << pt.trials << "\n";
+    csv.flush();
+    if (p.progress)
+      std::printf("  %-14s h %.4g um  kl x%-6g kb x%-6g  stable %.3g s  unstable %s  (%d trials)\n", pt.coupling.c_str(), pt.h * 1e6,
+                  pt.kl_scale, pt.kb_scale, pt.stable, pt.unstable > 0 ? (std::to_string(pt.unstable) + " s, " + pt.cause).c_str() : ">= cap",
+                  pt.trials);
+  };
+  for (const std::string& c : p.couplings)
+    for (double h : p.mesh_sizes) {
+      for (double kl : p.kl_scales) record(bisect(p, c, h, kl, 1));
+      for (double kb : p.kb_scales) record(bisect(p, c, h, 1, kb));
+    }
+  res.extremes = extremes(p);
+  std::ofstream ex(p.out_dir + "/extremes.csv");
+  ex << "case,setup,coupling,dt_s,end_s,stable,outcome,wall_seconds\n";
+  for (const Extreme& e : res.extremes)
+    ex << "\"" << e.name << "\",\"" << e.what << "\"," << e.coupling << "," << e.dt << "," << e.end << "," << e.stable << ",\""
+       << e.outcome << "\"," << e.wall_seconds << "\n";
+  return res;
+}
+
+}  // namespace rbc::stability_map

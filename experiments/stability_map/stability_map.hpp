@@ -1,0 +1,59 @@
+#pragma once
+// stability_map — the largest stable time step of the two couplings (issue 4; SPEC section 7).
+//
+// Question: how does the stable Δt depend on the membrane stiffness (k_l × 0.01 … 100,
+// k_b × 1 … 1000) and on the mesh size h, for the study's explicit coupling and for our
+// semi-implicit one; and do the extreme cases of SPEC section 7 run?
+//
+// Set-up (our choice; the study has no such test): the narrow channel (20 × 10 µm, Re0 = 0.5556),
+// one s* = 0.55 cell released at (5, 3) µm, SI reading of the constants. A Δt counts as stable if
+// kSteps steps (and at least kMinTime of flow) run without the health check stopping the run
+// (non-finite values, CFL > 1, spring strain > 1, a node through a wall). Bisection in log Δt
+// between a stable and an unstable value until their ratio is below kRatio; the search stops at
+// the advective cap Δt_adv (the wave-like step's bound with Q = kMaxSubsteps), which the flow
+// itself sets: "≥ cap" means stable there.
+#include <string>
+#include <vector>
+
+namespace rbc::stability_map {
+
+struct Params {
+  std::string out_dir = "results/stability_map";
+  bool quick = false;
+  bool progress = true;
+  std::vector<std::string> couplings = {"explicit", "semi-implicit"};
+  std::vector<double> mesh_sizes = {0.5e-6, 0.25e-6, 0.125e-6};  // h, m
+  std::vector<double> kl_scales = {0.01, 0.1, 1, 10, 100};       // k_l / 5e-8, with k_b × 1
+  std::vector<double> kb_scales = {10, 100, 1000};                // k_b / 5e-10, with k_l × 1
+  int steps = 400;            // steps per trial
+  double min_time = 2e-5;     // s of flow per trial at least (small Δt)
+  double ratio = 1.15;        // bisection ends when unstable/stable < ratio
+  int max_substeps = 4;       // Q at the cap
+  static Params quick_params();  // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
+};
+
+struct Point {
+  std::string coupling;
+  double h = 0, kl_scale = 1, kb_scale = 1;
+  double stable = 0, unstable = 0;  // s; unstable = 0: stable at the cap
+  double cap = 0;                   // s, the advective cap
+  std::string cause;                // of the smallest unstable trial
+  int trials = 0;
+};
+
+struct Extreme {
+  std::string name, what, coupling;
+  double dt = 0, end = 0;
+  bool stable = false;
+  std::string outcome;  // "ran to t = …" or the failure
+  double wall_seconds = 0;
+};
+
+struct Results {
+  std::vector<Point> points;
+  std::vector<Extreme> extremes;
+};
+
+Results run(const Params& p);
+
+}  // namespace rbc::stability_map
