@@ -13,7 +13,7 @@ DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
-EXPERIMENTS := channel_flow single_cell_migration
+EXPERIMENTS := channel_flow single_cell_migration stability_map
 
 .PHONY: all deps build test test-release test-sanitize reproduce bench clean
 

@@ -69,6 +69,12 @@ for exp in "$@"; do
                {r="|"; for(i=1;i<=NF;i++){r=r" "$i" |"}; print r}' "$dir/cases.csv"
       echo
     fi
+    if [ -f "$dir/convergence.md" ]; then
+      echo "### Error against run time"
+      echo
+      cat "$dir/convergence.md"
+      echo
+    fi
     if [ -f "$dir/units_evidence.md" ]; then
       echo "### Which reading of the 2D constants"
       echo

@@ -81,6 +81,15 @@ TEST(SceneInput, ValuesOutOfRangeOrOfTheWrongTypeAreRejected) {
   expect_error(scene_error(kGood + "[solver]\npressure_preconditioner = \"shur\"\n"), {"did you mean 'schur'"});
 }
 
+TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
+  expect_error(scene_error(kGood, {"time.coupling=implicit"}), {"[time] coupling", "explicit", "semi-implicit"});
+  const std::string cell = "[[cell]]\ncenter = [2e-6, 1e-6]\nswelling_ratio = 0.55\n[membrane]\nradius = 0.5e-6\n";
+  EXPECT_EQ(scene_error(kGood + cell, {"time.coupling=semi-implicit"}), "");
+  // 2 mm x 0.5 mm at h = 0.25 um: 8000 x 2000 nodes, a 1900 GiB table.
+  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "channel.length=2e-3", "channel.height=0.5e-3"}),
+               {"[time] coupling", "GiB", "coarser"});
+}
+
 TEST(SceneInput, MeshSizeThatDoesNotDivideTheChannelNamesTheSide) {
   expect_error(scene_error(replace(kGood, "height = 2e-6", "height = 2.1e-6")), {"[channel] mesh_size", "height"});
   expect_error(scene_error(replace(kGood, "length = 4e-6", "length = 4.3e-6")), {"[channel] mesh_size", "length"});

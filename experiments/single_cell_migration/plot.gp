@@ -34,6 +34,7 @@ set ytics auto format '%g'
 set autoscale
 
 set datafile separator ','
+set datafile columnheaders  # series.csv columns by name (their order grew over versions)
 set terminal pngcairo size 800,520 font ',11'
 set key top left
 
@@ -44,15 +45,17 @@ set xlabel 't (ms)'
 set ylabel 'centroid height (um)'
 set xrange [0:7.5]
 set yrange [2.5:5.5]
-plot for [s in ratios] dir.'/narrow_si_s'.s.'/series.csv' every ::1 using ($1*1e3):($8*1e6) with lines lw 2 title label(s), \
+plot for [s in ratios] dir.'/narrow_si_s'.s.'/series.csv' using (column("t")*1e3):(column("cell0_y")*1e6) with lines lw 2 title label(s), \
      5 with lines dt 2 lc rgb 'gray' title 'centreline'
 
-# Figure 5: centroid height in the wide channel (the span that ran).
+# Figure 5: centroid height in the wide channel, 800 ms (semi-implicit coupling).
 set output figdir.'/single_cell_migration_fig5.png'
-set title 'Fig. 5: centroid height in the 100 x 50 um channel (the span the explicit coupling covered)'
+set title 'Fig. 5: centroid height in the 100 x 50 um channel (centreline 25 um; semi-implicit coupling)'
+set xlabel 't (ms)'
 set autoscale x
 set yrange [*:*]
-plot for [s in ratios] dir.'/wide_si_s'.s.'/series.csv' every ::1 using ($1*1e3):($8*1e6) with lines lw 2 title label(s)
+plot for [s in ratios] dir.'/wide_si_s'.s.'/series.csv' using (column("t")*1e3):(column("cell0_y")*1e6) with lines lw 2 title label(s), \
+     25 with lines dt 2 lc rgb 'gray' title 'centreline'
 
 # Units evidence: the two readings of the constants over the first millisecond.
 set output figdir.'/single_cell_migration_units.png'
@@ -60,10 +63,11 @@ set multiplot layout 1,2 title 'Which reading of the 2D constants? SI (J/m as gi
 set title 'centroid height'
 set xrange [0:1]
 set yrange [2.5:5.5]
-plot for [s in "055 100"] dir.'/narrow_si_s'.s.'/series.csv' every ::1 using ($1*1e3):($8*1e6) with lines lw 2 title 'SI, '.label(s), \
-     for [s in "055 100"] dir.'/narrow_cgs_s'.s.'/series.csv' every ::1 using ($1*1e3):($8*1e6) with lines lw 2 dt 2 title 'CGS, '.label(s)
+plot for [s in "055 100"] dir.'/narrow_si_s'.s.'/series.csv' using (column("t")*1e3):(column("cell0_y")*1e6) with lines lw 2 title 'SI, '.label(s), \
+     for [s in "055 100"] dir.'/narrow_cgs_s'.s.'/series.csv' using (column("t")*1e3):(column("cell0_y")*1e6) with lines lw 2 dt 2 title 'CGS, '.label(s)
 set title 'shape at 1 ms (centred)'
 set datafile separator whitespace
+set datafile nocolumnheaders
 set xrange [-5:5]
 set yrange [-4:4]
 set size ratio -1
@@ -72,3 +76,23 @@ set ylabel 'y - 5 um'
 plot for [s in "055 100"] dir.'/narrow_si_s'.s.'/snapshots_centred.dat' index 8 using 1:($2-5) with lines lw 2 title 'SI, '.label(s), \
      for [s in "055 100"] dir.'/narrow_cgs_s'.s.'/snapshots_centred.dat' index 3 using 1:($2-5) with lines lw 2 dt 2 title 'CGS, '.label(s)
 unset multiplot
+
+# Error against run time (work-precision): one line per coupling and mesh size, Δt halving along it.
+conv = dir.'/convergence.csv'
+if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+  set output figdir.'/single_cell_migration_work_precision.png'
+  set terminal pngcairo size 800,560 font ',11'
+  set datafile separator ','
+  set datafile columnheaders
+  unset size
+  set autoscale
+  set logscale xy
+  set format y '10^{%L}'
+  set title sprintf('Error of the centroid height at %s against wall time (narrow channel, one thread)', '0.25 ms')
+  set xlabel 'wall time of the run (s)'
+  set ylabel '|y - y_{finest}| (um)'
+  set key bottom left
+  sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s)' %s", c, h, conv)
+  plot for [h in "0.5 0.25 0.125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 7 title 'explicit, h = '.h.' um', \
+       for [h in "0.5 0.25 0.125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um'
+}

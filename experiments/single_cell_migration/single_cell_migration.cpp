@@ -92,6 +92,67 @@ Params Params::quick_params() {
   return p;
 }
 
+// The work-precision table: error of the centroid height at conv_time against the finest run,
+// wall time, and the observed orders in Δt (successive differences at fixed h) and in h (the
+// smallest Δt of each h, explicit coupling).
+template <class ConvJobs>
+void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
+  const ConvergenceRun* ref = nullptr;
+  for (const auto& j : conv) {
+    if (!res.cases.count(j.name) || !res.cases.at(j.name).failure.empty()) continue;
+    const Case& c = res.cases.at(j.name);
+    ConvergenceRun r{j.coupling, j.h, j.dt, c.summary.steps, c.summary.wall_seconds, c.summary.cells.at(0).centroid.y(), 0};
+    res.convergence.push_back(r);
+  }
+  for (const auto& r : res.convergence)
+    if (r.coupling == "explicit" && (!ref || r.h < ref->h || (r.h == ref->h && r.dt < ref->dt))) ref = &r;
+  if (!ref) return;
+  const double y_ref = ref->y, h_ref = ref->h, dt_ref = ref->dt;
+  for (auto& r : res.convergence) r.error = std::abs(r.y - y_ref);
+  std::ofstream csv(fs::path(p.out_dir) / "convergence.csv");
+  csv << "coupling,h_um,dt_s,steps,wall_seconds,y_um,error_um\n";
+  for (const auto& r : res.convergence)
+    csv << r.coupling << "," << r.h * 1e6 << "," << r.dt << "," << r.steps << "," << r.wall_seconds << "," << r.y * 1e6 << ","
+        << r.error * 1e6 << "\n";
+  std::ostringstream md;
+  md << "Error against run time (narrow channel, s* = 0.55 from (5, 3) um, SI constants): the error of the centroid "
+        "height at t = " << p.conv_time * 1e3 << " ms against the finest run (explicit, h = " << h_ref * 1e6 << " um, Δt = " << dt_ref
+     << " s: y = " << y_ref * 1e6 << " um), wall time of each run on one thread. Errors below that run's own error are not resolved.\n\n";
+  md << "| coupling | h (um) | Δt (s) | steps | wall (s) | y (um) | error (um) | observed order in Δt |\n|---|---|---|---|---|---|---|---|\n";
+  // Observed Δt order at fixed h: log2 of the ratio of successive differences (Δt halving).
+  for (const std::string coupling : {"explicit", "semi-implicit"})
+    for (double h : {0.5e-6, 0.25e-6, 0.125e-6}) {
+      std::vector<const ConvergenceRun*> runs;
+      for (const auto& r : res.convergence)
+        if (r.coupling == coupling && r.h == h) runs.push_back(&r);
+      std::sort(runs.begin(), runs.end(), [](auto* a, auto* b) { return a->dt > b->dt; });
+      for (std::size_t k = 0; k < runs.size(); ++k) {
+        std::string order;
+        if (k >= 2) {
+          const double d1 = runs[k - 2]->y - runs[k - 1]->y, d2 = runs[k - 1]->y - runs[k]->y;
+          if (d2 != 0) order = std::to_string(std::log2(std::abs(d1 / d2))).substr(0, 4);
+        }
+        char row[200];
+        std::snprintf(row, sizeof row, "| %s | %g | %.3g | %ld | %.1f | %.5f | %.2e | %s |\n", coupling.c_str(), h * 1e6, runs[k]->dt,
+                      runs[k]->steps, runs[k]->wall_seconds, runs[k]->y * 1e6, runs[k]->error * 1e6, order.c_str());
+        md << row;
+      }
+    }
+  // Observed h order: the smallest Δt of each h, explicit.
+  std::vector<double> yh;
+  for (double h : {0.5e-6, 0.25e-6, 0.125e-6}) {
+    const ConvergenceRun* best = nullptr;
+    for (const auto& r : res.convergence)
+      if (r.coupling == "explicit" && r.h == h && (!best || r.dt < best->dt)) best = &r;
+    if (best) yh.push_back(best->y);
+  }
+  if (yh.size() == 3 && yh[1] != yh[2])
+    md << "\nObserved order in h (explicit, smallest Δt of each h = 0.5, 0.25, 0.125 um): "
+       << std::log2(std::abs((yh[0] - yh[1]) / (yh[1] - yh[2]))) << ".\n";
+  res.convergence_summary = md.str();
+  std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_summary;
+}
+
 Results run(const Params& p) {
   // The cases: the narrow channel under the chosen reading (Figures 3, 4), the other reading over
   // the first millisecond (the units evidence), the wide channel (Figure 5).
@@ -125,6 +186,29 @@ Results run(const Params& p) {
     wide.source = src;
     jobs.push_back({"wide_" + p.units + "_" + tag(s), wide});
   }
+  // Error against run time: short narrow-channel runs over h and Δt, both couplings.
+  struct ConvJob { std::string name, coupling; double h, dt; };
+  std::vector<ConvJob> conv;
+  if (!p.quick && p.convergence)
+    for (const auto& [coupling, table] : {std::pair{std::string("explicit"), p.conv_explicit},
+                                          std::pair{std::string("semi-implicit"), p.conv_semi_implicit}})
+      for (const auto& [h, dts] : table)
+        for (double dt : dts) {
+          char name[96];
+          std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", coupling.c_str(), h * 1e6, dt);
+          Scene sc = channel_scene(20e-6, 10e-6, h, 0.5556, dt, std::round(p.conv_time / dt) * dt, p.conv_time / 25);
+          sc.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+          sc.membrane_constants.units = p.units;
+          sc.coupling = coupling;
+          Scene q1 = sc;
+          q1.advection_substeps = 1;
+          sc.advection_substeps = std::max(1, int(std::ceil(dt / advective_dt_bound(q1.flow_params()) * (1 - 1e-12))));
+          char src[160];
+          std::snprintf(src, sizeof src, "single_cell_migration convergence %s h=%g um dt=%g s", coupling.c_str(), h * 1e6, dt);
+          sc.source = src;
+          jobs.push_back({name, sc});
+          conv.push_back({name, coupling, h, dt});
+        }
   if (!p.only.empty())
     std::erase_if(jobs, [&](const Job& j) { return j.name.rfind(p.only, 0) != 0; });
   // The longest first, two at a time with one thread each (the cases are independent).
@@ -180,6 +264,8 @@ Results run(const Params& p) {
     b.join();
   }
   if (!failure.empty()) throw RunFailure(failure);
+  if (!conv.empty() && (p.only.empty() || std::string("conv").rfind(p.only, 0) == 0 || p.only.rfind("conv", 0) == 0))
+    convergence_table(p, conv, res);
   if (!p.only.empty()) return res;  // a part: no comparison with the study
 
   // The study's rows (reference-data/single_cell_migration.csv).

@@ -2,27 +2,35 @@
 // cases of SPEC section 7 (see stability_map.hpp).
 #include <cstdio>
 
+#include <omp.h>
+
 #include <CLI/CLI.hpp>
 
 #include "stability_map.hpp"
 
 int main(int argc, char** argv) {
   namespace sm = rbc::stability_map;
-  bool quick = false;
+  bool quick = false, check = false, p_reuse = false;
   std::string out;
+  int threads = 0;
   CLI::App app{"stability_map: largest stable time step of the explicit and semi-implicit couplings"};
   app.add_option("--out", out, "output folder (default results/stability_map)");
   app.add_flag("--quick", quick, "a small map (h = 0.5, 0.25 um; three stiffnesses)");
+  app.add_flag("--check", check, "exit 1 if an extreme case stopped (the study publishes no numbers for this map)");
+  app.add_flag("--reuse", p_reuse, "read a finished map from the output folder instead of recomputing it");
+  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
   CLI11_PARSE(app, argc, argv);
   sm::Params p = quick ? sm::Params::quick_params() : sm::Params{};
   if (!out.empty()) p.out_dir = out;
+  p.reuse = p_reuse;
+  if (threads > 0) omp_set_num_threads(threads);
   try {
     const sm::Results r = sm::run(p);
     int unstable_extremes = 0;
     for (const auto& e : r.extremes) unstable_extremes += !e.stable;
     std::printf("stability map: %zu points, %d of %zu extreme cases stopped; outputs in %s\n", r.points.size(), unstable_extremes,
                 r.extremes.size(), p.out_dir.c_str());
-    return 0;
+    return check && unstable_extremes > 0 ? 1 : 0;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stability_map: %s\n", e.what());
     return 2;

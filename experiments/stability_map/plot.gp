@@ -1,9 +1,10 @@
 # Stability map: largest stable Δt against k_l and k_b for three mesh sizes and both couplings.
-#   gnuplot -e "dir='results/stability_map'" experiments/stability_map/plot.gp
+#   gnuplot -e "dir='results/stability_map'; figdir='paper/report/figures'" experiments/stability_map/plot.gp
 if (!exists("dir")) dir = 'results/stability_map'
+if (!exists("figdir")) figdir = dir
 set datafile separator ','
 set terminal pngcairo size 1200,500 font ',10'
-set output dir.'/stability_map.png'
+set output figdir.'/stability_map_dt.png'
 set multiplot layout 1,2 title 'Largest stable time step, narrow channel, one s* = 0.55 cell (SI constants); dotted: advective cap (Q = 4)'
 set logscale xy
 set format y '10^{%L}'

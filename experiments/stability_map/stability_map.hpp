@@ -29,6 +29,7 @@ struct Params {
   double min_time = 2e-5;     // s of flow per trial at least (small Δt)
   double ratio = 1.15;        // bisection ends when unstable/stable < ratio
   int max_substeps = 4;       // Q at the cap
+  bool reuse = false;         // read a finished map from out_dir instead of recomputing it
   static Params quick_params();  // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
 };
 
@@ -55,5 +56,6 @@ struct Results {
 };
 
 Results run(const Params& p);
+void write_tables(const Params& p, const Results& r);  // out_dir/check.md for the report
 
 }  // namespace rbc::stability_map

@@ -373,6 +373,17 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       << " m/s, the cell-free peak speed); lower dt or raise [time] advection_substeps";
     r.fail("[time] dt", m.str());
   }
+  // The semi-implicit coupling tabulates the step mobility once: 8 nx (ny − 1)² doubles.
+  if (s.coupling == "semi-implicit" && !s.cells.empty()) {
+    const double nx = std::round(s.length / s.mesh_size), ny = std::round(s.height / s.mesh_size);
+    const double gib = 8.0 * nx * (ny - 1) * (ny - 1) * 8.0 / (1024.0 * 1024.0 * 1024.0);
+    if (gib > kMaxMobilityTableGiB) {
+      std::ostringstream m;
+      m << "= \"semi-implicit\" on this mesh (" << nx << " x " << ny << ") needs a " << gib
+        << " GiB mobility table (limit " << kMaxMobilityTableGiB << " GiB); use a coarser [channel] mesh_size or \"explicit\"";
+      r.fail("[time] coupling", m.str());
+    }
+  }
   return s;
 }
 

@@ -4,7 +4,7 @@
 //   [fluid]   density (kg/m³), viscosity (Pa·s)                       — optional, plasma by default
 //   [channel] length, height, mesh_size (m); reynolds (cell-free Re0) or body_force (N/m³);
 //             wall_velocity = [bottom, top] (m/s)
-//   [time]    dt, end (s); coupling ("explicit"); advection_substeps (Q)
+//   [time]    dt, end (s); coupling ("explicit" | "semi-implicit"); advection_substeps (Q)
 //   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance
 //   [output]  every (s between samples), vtk (bool), snapshots = [t, …] (s; membrane shapes)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
@@ -22,6 +22,9 @@
 #include "membrane/spring_membrane.hpp"
 
 namespace rbc {
+
+// Largest mobility table the semi-implicit coupling may allocate (step_mobility.hpp), GiB.
+inline constexpr double kMaxMobilityTableGiB = 8.0;
 
 // Bad input: the message names the file, the key and what is allowed.
 struct SceneError : std::runtime_error {
