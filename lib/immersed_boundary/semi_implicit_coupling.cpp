@@ -5,7 +5,6 @@
 #include <stdexcept>
 
 #include "immersed_boundary/immersed_boundary.hpp"
-#include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
 
@@ -36,7 +35,8 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   std::fill(work_.u2.begin(), work_.u2.end(), 0.0);
   VelocityField f(mesh_);
   for (std::size_t c = 0; c < cells.size(); ++c) {
-    const Eigen::VectorXd kv = blocks_[c].K * v.segment(offset_[c], blocks_[c].K.rows());
+    const Eigen::Index n = offset_[c + 1] - offset_[c];
+    const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
     spread_forces(mesh_, cells[c].nodes, as_points(kv, 0, int(cells[c].nodes.size())), f);
   }
   flow_.diffusion().add_force_response(work_, f);
@@ -53,7 +53,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
 Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v) const {
   Eigen::VectorXd out(v.size());
   for (std::size_t c = 0; c < blocks_.size(); ++c) {
-    const Eigen::Index n = blocks_[c].K.rows();
+    const Eigen::Index n = offset_[c + 1] - offset_[c];
     out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
   }
   return out;
@@ -131,7 +131,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     if (!rebuild) continue;
     Eigen::MatrixXd M;
     mobility_.matrix(r, M);
-    Eigen::MatrixXd B = dt_ * (M * blocks_[c].K);
+    Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
     B.diagonal().array() += 1.0;
     blocks_[c].lu.compute(B);
   }
@@ -140,8 +140,8 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
   // ΔF = −Δt K U, the change of the spring force over the coming step.
   for (int c = 0; c < ncells; ++c) {
-    const Eigen::Index n = blocks_[c].K.rows();
-    const Eigen::VectorXd f = -dt_ * (blocks_[c].K * U.segment(offset_[c], n));
+    const Eigen::Index n = offset_[c + 1] - offset_[c];
+    const Eigen::VectorXd f = -dt_ * blocks_[c].K.apply(U.segment(offset_[c], n));
     spread_forces(mesh_, cells[c].nodes, as_points(f, 0, int(n / 2)), correction_);
   }
   return correction_;

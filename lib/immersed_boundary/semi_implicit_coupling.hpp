@@ -33,6 +33,7 @@
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/step_mobility.hpp"
+#include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
 
@@ -62,7 +63,7 @@ class SemiImplicitMembraneStep {
   VelocityField correction_;
   // The coupled system of the current step.
   struct Block {
-    Eigen::MatrixXd K;                    // the cell's stiffness
+    MembraneStiffness K;                  // the cell's stiffness
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of I + Δt M_cc K_c
   };
   std::vector<Block> blocks_;

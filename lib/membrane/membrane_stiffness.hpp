@@ -11,13 +11,26 @@
 //   bending node i:     k_b ∇t ∇tᵀ        (Gauss–Newton: drops k_b t ∇²t, t = tan(θ/2) ≈ π/N)
 //   area penalty:       (k_s/s_e²) ∇s ∇sᵀ  (Gauss–Newton: exact at s = s_e)
 //
-// K is 2N × 2N with unknowns ordered (x_1, y_1, x_2, y_2, …), units N/m per m (J/m³ per depth).
+// K is 2N × 2N with unknowns ordered (x_1, y_1, x_2, …), units N/m per m. The springs and bending
+// couple each node to its two neighbours on either side (a sparse band); the area term is rank
+// one, c g gᵀ. We keep the two apart, so that K v and M K cost O(N) and O(N²), not O(N²), O(N³).
 #include <Eigen/Dense>
+#include <Eigen/Sparse>
 
 #include "membrane/spring_membrane.hpp"
 
 namespace rbc {
 
-Eigen::MatrixXd membrane_stiffness(const MembraneModel& m, const Points& r, double target_area);
+struct MembraneStiffness {
+  Eigen::SparseMatrix<double> band;  // springs and bending
+  Eigen::VectorXd area_gradient;     // g = ∂s/∂r (empty without the area penalty)
+  double area_coefficient = 0;       // c = k_s / s_e²
+
+  Eigen::VectorXd apply(const Eigen::VectorXd& v) const;         // K v
+  Eigen::MatrixXd right_multiply(const Eigen::MatrixXd& M) const;  // M K
+  Eigen::MatrixXd dense() const;                                   // K (for tests)
+};
+
+MembraneStiffness membrane_stiffness(const MembraneModel& m, const Points& r, double target_area);
 
 }  // namespace rbc
