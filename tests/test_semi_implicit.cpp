@@ -190,6 +190,10 @@ TEST(SemiImplicitValidationExperiment, WideChannelFourCellsConvergeToTheExplicit
   // 1e-6 and 2e-6 s (Q = 2). Claims, stated before the run: every centroid
   // coordinate's difference to the explicit one shrinks with Δt, and at 1e-6 s it is within
   // 2 % of that cell's displacement over the run plus 1 nm; shapes within 1 % of R0.
+  // Measured (commit of this test): x differences 0.0156 and 0.0321 um of 1.458 um moved (first
+  // order), shapes 0.0024 um. In 0.1 ms the cells drift only ≈ 1e-4 um across the flow, so the
+  // x2 checks are within the 1 nm floor: this test validates the streamwise motion and the shapes;
+  // the lateral migration is validated by the narrow-channel test above.
   Scene s;
   s.source = "test";
   s.length = 100e-6;

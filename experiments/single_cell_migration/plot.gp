@@ -84,8 +84,11 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set terminal pngcairo size 800,560 font ',11'
   set datafile separator ','
   set datafile columnheaders
-  unset size
+  set size noratio
+  set size 1,1
   set autoscale
+  unset xrange
+  unset yrange
   set logscale xy
   set format y '10^{%L}'
   set title sprintf('Error of the centroid height at %s against wall time (narrow channel, one thread)', '0.25 ms')
