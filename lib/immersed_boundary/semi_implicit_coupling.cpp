@@ -59,11 +59,16 @@ Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v)
   return out;
 }
 
-Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b) {
+Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs) {
   // GMRES on (I + Δt M K) B⁻¹ y = b, U = B⁻¹ y, with B = blockdiag(I + Δt M_cc K_c): each cell's
   // own system (exact, from StepMobility), so only the cell-to-cell coupling is left to iterate.
+  // Started from the last step's U (node velocities change little from step to step): we solve
+  // for the change, with the tolerance still relative to the full right-hand side.
   const int max_it = kCouplingMaxIterations;
-  const double bnorm = b.norm();
+  const bool warm = last_U_.size() == rhs.size();
+  const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, last_U_)) : rhs;
+  const double bnorm = b.norm(), target = kCouplingTolerance * rhs.norm();
+  if (bnorm <= target) return last_U_;
   Eigen::MatrixXd V(b.size(), max_it + 1), H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(max_it + 1), cs(max_it), sn(max_it);
   V.col(0) = b / bnorm;
@@ -91,16 +96,18 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
     g[k + 1] = -sn[k] * g[k];
     g[k] = cs[k] * g[k];
     last_iterations_ = k + 1;
-    if (std::abs(g[k + 1]) <= kCouplingTolerance * bnorm) {
+    if (std::abs(g[k + 1]) <= target) {
       ++k;
       break;
     }
   }
-  if (std::abs(g[k]) > kCouplingTolerance * bnorm && k == max_it)
+  if (std::abs(g[k]) > target && k == max_it)
     throw std::runtime_error("semi-implicit coupling: the cell-to-cell system did not converge in " +
                              std::to_string(max_it) + " GMRES iterations");
   const Eigen::VectorXd y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-  return precondition(V.leftCols(k) * y);
+  Eigen::VectorXd U = precondition(V.leftCols(k) * y);
+  if (warm) U += last_U_;
+  return U;
 }
 
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
@@ -138,6 +145,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // One cell: its own system is the whole system. Several: the coupled solve.
   last_iterations_ = 0;
   const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
+  last_U_ = U;
   // ΔF = −Δt K U, the change of the spring force over the coming step.
   for (int c = 0; c < ncells; ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];

@@ -72,6 +72,7 @@ class SemiImplicitMembraneStep {
   std::vector<double> work_pressure_;
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
+  Eigen::VectorXd last_U_;  // the last step's node velocities, GMRES's starting point
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v) const;
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);
