@@ -8,8 +8,9 @@
 
 namespace rbc {
 
-SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model)
+SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance)
     : flow_(flow),
+      tolerance_(tolerance),
       mesh_(flow.mesh()),
       model_(model),
       dt_(flow.params().dt),
@@ -67,7 +68,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   const int max_it = kCouplingMaxIterations;
   const bool warm = last_U_.size() == rhs.size();
   const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, last_U_)) : rhs;
-  const double bnorm = b.norm(), target = kCouplingTolerance * rhs.norm();
+  const double bnorm = b.norm(), target = tolerance_ * rhs.norm();
   if (bnorm <= target) return last_U_;
   Eigen::MatrixXd V(b.size(), max_it + 1), H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(max_it + 1), cs(max_it), sn(max_it);

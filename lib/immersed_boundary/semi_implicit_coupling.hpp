@@ -39,7 +39,8 @@ namespace rbc {
 
 class SemiImplicitMembraneStep {
  public:
-  SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model);
+  // tolerance: relative residual of the cell-to-cell GMRES solve (several cells).
+  SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4);
   // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
   // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the force density −S Δt K U (N/m³) whose
@@ -47,12 +48,12 @@ class SemiImplicitMembraneStep {
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
   int last_iterations() const { return last_iterations_; }  // GMRES iterations of the last step (0: one cell)
 
-  static constexpr double kCouplingTolerance = 1e-8;  // relative residual of the coupled system
   static constexpr int kCouplingMaxIterations = 60;
   static constexpr int kBlockRefreshSteps = 10;  // several cells: preconditioner blocks rebuilt every 10 steps
 
  private:
   ChannelFlow& flow_;
+  double tolerance_;
   ChannelMesh mesh_;
   MembraneModel model_;
   double dt_;

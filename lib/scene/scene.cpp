@@ -25,7 +25,7 @@ const std::vector<TableSpec>& schema() {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance"}},
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance"}},
       {"output", {"every", "vtk", "snapshots"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
@@ -306,6 +306,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);
+  s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
   s.output_every = r.number("output", "every", "s", 0, big, true, s.end / 100);
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");

@@ -18,7 +18,7 @@ Simulation::Simulation(const Scene& scene)
     cells_.push_back(make_cell(shapes.at(c.swelling_ratio), c.swelling_ratio, c.center, c.angle));
   }
   if (scene.coupling == "semi-implicit")
-    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_);
+    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance);
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
 }
