@@ -199,7 +199,7 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
   try {
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
     if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
-        std::abs(j.at("t_end").get<double>() - scene.end) > 0.5 * scene.dt)
+        std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
     RunSummary s;
     s.steps = j.at("steps");
