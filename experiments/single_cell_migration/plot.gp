@@ -29,6 +29,7 @@ do for [s in ratios] {
 }
 unset multiplot
 unset size
+set size noratio
 set xtics auto
 set ytics auto format '%g'
 set autoscale
@@ -54,7 +55,11 @@ set title 'Fig. 5: centroid height in the 100 x 50 um channel (centreline 25 um;
 set xlabel 't (ms)'
 set autoscale x
 set yrange [*:*]
+# Points: the mean node height of each membrane snapshot (0, 100, 200, 400, 800 ms), read from
+# snapshots_centred.dat, so the figure has the trajectory even where series.csv is missing.
+snap(s) = sprintf("< awk 'BEGIN{print \"t_ms,y_um\"} /^# t = /{if(n)print t*1e3 \",\" m/n; t=$4; m=0; n=0; next} NF==2{m+=$2; n++} END{if(n)print t*1e3 \",\" m/n}' %s/wide_si_s%s/snapshots_centred.dat", dir, s)
 plot for [s in ratios] dir.'/wide_si_s'.s.'/series.csv' using (column("t")*1e3):(column("cell0_y")*1e6) with lines lw 2 title label(s), \
+     for [i=1:3] snap(word(ratios, i)) using 1:2 with points pt 7 ps 1.2 lc i title label(word(ratios, i)).' (snapshots)', \
      25 with lines dt 2 lc rgb 'gray' title 'centreline'
 
 # Units evidence: the two readings of the constants over the first millisecond.
