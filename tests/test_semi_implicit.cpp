@@ -118,6 +118,17 @@ TEST(StepMobility, EqualsSpreadSolveProjectInterpolate) {
 namespace rbc {
 namespace {
 
+// A channel of the study (L × H, mesh h, cell-free Re0) without cells.
+Scene channel(double length, double height, double h, double reynolds0) {
+  Scene s;
+  s.source = "test";
+  s.length = length;
+  s.height = height;
+  s.mesh_size = h;
+  s.reynolds0 = reynolds0;
+  return s;
+}
+
 // Runs a scene to t_end; returns the cells.
 std::vector<Cell> run_to(Scene s, const std::string& coupling, double dt, double t_end, int substeps = 1) {
   s.coupling = coupling;
@@ -153,12 +164,7 @@ TEST(SemiImplicitValidationExperiment, NarrowChannelSingleCellConvergesToTheExpl
   // within the reference's own first-order error, slope · 2e-8 s, doubled for the O(Δt²) rest;
   // (c) shapes: the centroid-aligned node distance to the explicit shape at 1e-7 s is below
   // 1 % of R0 and shrinks with Δt.
-  Scene s;
-  s.source = "test";
-  s.length = 20e-6;
-  s.height = 10e-6;
-  s.mesh_size = 0.25e-6;
-  s.reynolds0 = 0.5556;
+  Scene s = channel(20e-6, 10e-6, 0.25e-6, 0.5556);
   s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
   const double T = 2.5e-4;
   const std::vector<Cell> ex = run_to(s, "explicit", 2e-8, T);
@@ -194,12 +200,7 @@ TEST(SemiImplicitValidationExperiment, WideChannelFourCellsConvergeToTheExplicit
   // order), shapes 0.0024 um. In 0.1 ms the cells drift only ≈ 1e-4 um across the flow, so the
   // x2 checks are within the 1 nm floor: this test validates the streamwise motion and the shapes;
   // the lateral migration is validated by the narrow-channel test above.
-  Scene s;
-  s.source = "test";
-  s.length = 100e-6;
-  s.height = 50e-6;
-  s.mesh_size = 0.3125e-6;
-  s.reynolds0 = 2.778;
+  Scene s = channel(100e-6, 50e-6, 0.3125e-6, 2.778);
   for (const auto& c : {Eigen::Vector2d(25e-6, 10e-6), Eigen::Vector2d(25e-6, 40e-6), Eigen::Vector2d(65e-6, 10e-6),
                         Eigen::Vector2d(65e-6, 40e-6)})
     s.cells.push_back({c, 1.0, 0.0});

@@ -20,6 +20,7 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
       work_(flow.mesh()),
+      work_force_(flow.mesh()),
       work_pressure_(flow.mesh().pressure_nodes(), 0.0) {}
 
 namespace {
@@ -32,9 +33,11 @@ Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
 
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
-  std::fill(work_.u1.begin(), work_.u1.end(), 0.0);
-  std::fill(work_.u2.begin(), work_.u2.end(), 0.0);
-  VelocityField f(mesh_);
+  for (VelocityField* g : {&work_, &work_force_}) {
+    std::fill(g->u1.begin(), g->u1.end(), 0.0);
+    std::fill(g->u2.begin(), g->u2.end(), 0.0);
+  }
+  VelocityField& f = work_force_;
   for (std::size_t c = 0; c < cells.size(); ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));

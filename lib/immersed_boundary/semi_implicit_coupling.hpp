@@ -69,7 +69,7 @@ class SemiImplicitMembraneStep {
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
-  VelocityField work_;
+  VelocityField work_, work_force_;  // GMRES matrix-vector product: velocity and force fields
   std::vector<double> work_pressure_;
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
