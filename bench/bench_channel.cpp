@@ -91,6 +91,14 @@ static void bench_cells() {
       }
       std::printf("%-8d %-14s %10.2g %10.1f %10.1f %9.2f %14.3f %9d\n", cells, cells ? coupling : "(none)", dt, step * 1e6,
                   1.0 / step, step / f.pair2d, step / dt * 1e-3, sim.last_coupling_iterations());
+      if (const auto* si = sim.semi_implicit_step()) {
+        const auto& c = si->cost();
+        const double n = double(c.steps);
+        std::printf("         per step (us): predictor %.0f, blocks %.0f (%.1f cell blocks built), coupled solve %.0f "
+                    "(%.1f products), correction %.0f\n",
+                    c.predictor / n * 1e6, c.blocks / n * 1e6, c.block_builds / n, c.coupled / n * 1e6, c.products / n,
+                    c.correction / n * 1e6);
+      }
     }
 }
 

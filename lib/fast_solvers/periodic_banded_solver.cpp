@@ -6,6 +6,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <omp.h>
+
 namespace rbc {
 
 namespace {
@@ -76,53 +78,78 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
   real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
   spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
   int n[] = {nx_};
-  forward_ = fftw_plan_many_dft_r2c(1, n, rows_, real_, nullptr, 1, nx_, spec_, nullptr, 1, nk_, FFTW_ESTIMATE);
-  backward_ = fftw_plan_many_dft_c2r(1, n, rows_, spec_, nullptr, 1, nk_, real_, nullptr, 1, nx_, FFTW_ESTIMATE);
+  half_ = rows_ / 2;
+  for (int h = 0; h < 2; ++h) {
+    const int first = h == 0 ? 0 : half_, count = h == 0 ? half_ : rows_ - half_;
+    if (count == 0) continue;
+    double* re = real_ + std::size_t(first) * nx_;
+    fftw_complex* sp = spec_ + std::size_t(first) * nk_;
+    forward_[h] = fftw_plan_many_dft_r2c(1, n, count, re, nullptr, 1, nx_, sp, nullptr, 1, nk_, FFTW_ESTIMATE);
+    backward_[h] = fftw_plan_many_dft_c2r(1, n, count, sp, nullptr, 1, nk_, re, nullptr, 1, nx_, FFTW_ESTIMATE);
+  }
 }
 
 PeriodicBandedSolver::~PeriodicBandedSolver() {
   std::lock_guard<std::mutex> guard(fftw_planner_lock());
-  fftw_destroy_plan(forward_);
-  fftw_destroy_plan(backward_);
+  for (fftw_plan p : {forward_[0], forward_[1], backward_[0], backward_[1]})
+    if (p) fftw_destroy_plan(p);
   fftw_free(real_);
   fftw_free(spec_);
 }
 
 void PeriodicBandedSolver::solve(const double* b, double* x) {
-  std::memcpy(real_, b, sizeof(double) * std::size_t(nx_) * rows_);
-  fftw_execute(forward_);
-  // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec_[j * nk_ + k].
+  const std::size_t size = std::size_t(nx_) * rows_;
   double* s = &spec_[0][0];
-  const int w = 2 * band_ + 1, nk = nk_;
-  auto re = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k)]; };
-  auto im = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk + k) + 1]; };
-  // c_j −= f c_q for every mode, f the factor entry (j, q).
-  auto subtract = [&](int j, int q) {
-    const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk];
-    const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk];
-    for (int k = 0; k < nk; ++k) {
-      const double cr = re(q, k), ci = im(q, k);
-      re(j, k) -= fr[k] * cr - fi[k] * ci;
-      im(j, k) -= fr[k] * ci + fi[k] * cr;
+  const int w = 2 * band_ + 1;
+  const double scale = 1.0 / nx_;
+#pragma omp parallel if (!omp_in_parallel())
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec_[j * nk_ + k].
+#pragma omp for schedule(static)
+    for (int h = 0; h < 2; ++h) {
+      if (!forward_[h]) continue;
+      const std::size_t first = std::size_t(h == 0 ? 0 : half_) * nx_, last = h == 0 ? std::size_t(half_) * nx_ : size;
+      std::memcpy(real_ + first, b + first, sizeof(double) * (last - first));
+      fftw_execute(forward_[h]);
     }
-  };
-  // Forward substitution with the unit lower factor, all modes at once.
-  for (int j = 1; j < rows_; ++j)
-    for (int p = std::max(0, j - band_); p < j; ++p) subtract(j, p);
-  // Back substitution with the upper factor: c_j = (c_j − Σ u_{j,q} c_q) / u_jj.
-  for (int j = rows_ - 1; j >= 0; --j) {
-    for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) subtract(j, q);
-    const double* dr = &fre_[(std::size_t(j) * w + band_) * nk];
-    const double* di = &fim_[(std::size_t(j) * w + band_) * nk];
-    for (int k = 0; k < nk; ++k) {
-      const double cr = re(j, k), ci = im(j, k);
-      re(j, k) = dr[k] * cr - di[k] * ci;
-      im(j, k) = dr[k] * ci + di[k] * cr;
+    // Each thread substitutes its own range of modes, [k0, k1).
+    const int k0 = t * nk_ / threads, k1 = (t + 1) * nk_ / threads;
+    auto re = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk_ + k)]; };
+    auto im = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk_ + k) + 1]; };
+    // c_j −= f c_q for every mode, f the factor entry (j, q).
+    auto subtract = [&](int j, int q) {
+      const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk_];
+      const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk_];
+      for (int k = k0; k < k1; ++k) {
+        const double cr = re(q, k), ci = im(q, k);
+        re(j, k) -= fr[k] * cr - fi[k] * ci;
+        im(j, k) -= fr[k] * ci + fi[k] * cr;
+      }
+    };
+    // Forward substitution with the unit lower factor.
+    for (int j = 1; j < rows_; ++j)
+      for (int p = std::max(0, j - band_); p < j; ++p) subtract(j, p);
+    // Back substitution with the upper factor: c_j = (c_j − Σ u_{j,q} c_q) / u_jj.
+    for (int j = rows_ - 1; j >= 0; --j) {
+      for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) subtract(j, q);
+      const double* dr = &fre_[(std::size_t(j) * w + band_) * nk_];
+      const double* di = &fim_[(std::size_t(j) * w + band_) * nk_];
+      for (int k = k0; k < k1; ++k) {
+        const double cr = re(j, k), ci = im(j, k);
+        re(j, k) = dr[k] * cr - di[k] * ci;
+        im(j, k) = dr[k] * ci + di[k] * cr;
+      }
+    }
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int h = 0; h < 2; ++h) {
+      if (!backward_[h]) continue;
+      fftw_execute(backward_[h]);
+      const std::size_t first = std::size_t(h == 0 ? 0 : half_) * nx_, last = h == 0 ? std::size_t(half_) * nx_ : size;
+      for (std::size_t i = first; i < last; ++i) x[i] = real_[i] * scale;
     }
   }
-  fftw_execute(backward_);
-  const double scale = 1.0 / nx_;
-  for (std::size_t i = 0, n = std::size_t(nx_) * rows_; i < n; ++i) x[i] = real_[i] * scale;
 }
 
 }  // namespace rbc

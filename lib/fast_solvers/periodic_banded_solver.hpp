@@ -7,7 +7,9 @@
 // where a_{j,j'}(d) is the response in row j, column d, to a unit value at (0, j').
 // We read the symbol off A itself by applying it once to a unit value in each row of column 0
 // (a "probe"), factor every Â_k (Hermitian and banded) by LU once, and then each solve costs one
-// real FFT pair in x1 plus nx/2+1 banded triangular solves.
+// real FFT pair in x1 plus nx/2+1 banded triangular solves. With OpenMP the rows' transforms
+// and the modes' substitutions are shared between threads (each mode and row is computed the
+// same way whatever the thread count, so the result does not depend on it).
 //
 // A singular A whose kernel is the constant field (a Neumann problem) is handled at k = 0 by
 // replacing the last equation with x̂_0[rows-1] = 0; the solution is then defined up to the
@@ -46,7 +48,10 @@ class PeriodicBandedSolver {
   std::vector<double> fre_, fim_;
   double* real_ = nullptr;
   fftw_complex* spec_ = nullptr;
-  fftw_plan forward_ = nullptr, backward_ = nullptr;
+  // The rows in two halves, each with its own pair of plans, so that two threads can transform
+  // them at once; the halves are the same whatever the thread count (results do not depend on it).
+  int half_ = 0;  // first row of the second half
+  fftw_plan forward_[2] = {nullptr, nullptr}, backward_[2] = {nullptr, nullptr};
   cplx& entry(int k, int j, int jp) { return lu_[(std::size_t(k) * rows_ + j) * (2 * band_ + 1) + (jp - j + band_)]; }
 };
 

@@ -4,31 +4,26 @@
 
 namespace rbc {
 
-namespace {
-// Stencil of node position p: first column/row and weights φ in each direction.
-struct Stencil {
-  int i0, j0;
-  double wx[4], wy[4];
-};
-Stencil stencil(const ChannelMesh& m, const Eigen::Vector2d& p) {
-  Stencil s;
-  s.i0 = peskin_weights(p.x() / m.h, s.wx);
-  s.j0 = peskin_weights(p.y() / m.h, s.wy);
-  return s;
+void node_stencils(const ChannelMesh& m, const Points& r, std::vector<NodeStencil>& st) {
+  st.resize(r.size());
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    st[k].i0 = m.wrap(peskin_weights(r[k].x() / m.h, st[k].wx));
+    st[k].j0 = peskin_weights(r[k].y() / m.h, st[k].wy);
+  }
 }
-}  // namespace
 
-void spread_forces(const ChannelMesh& m, const Points& r, const Points& F, VelocityField& field) {
+void spread_forces(const ChannelMesh& m, const std::vector<NodeStencil>& st, const Points& F, VelocityField& field) {
   // f_B at node x: Σ_i F_i φ(..)φ(..)/h² (the 1/h² is δ_h δ_h).
   const double inv_h2 = 1.0 / (m.h * m.h);
-  for (std::size_t k = 0; k < r.size(); ++k) {
-    const Stencil s = stencil(m, r[k]);
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const NodeStencil& s = st[k];
     for (int b = 0; b < 4; ++b) {
       const int j = s.j0 + b;
       if (j <= 0 || j >= m.ny) continue;  // walls and beyond: dropped
-      for (int a = 0; a < 4; ++a) {
+      const std::size_t row = std::size_t(j) * m.nx;
+      for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {
         const double w = s.wx[a] * s.wy[b] * inv_h2;
-        const std::size_t n = m.v(s.i0 + a, j);
+        const std::size_t n = row + i;
         field.u1[n] += w * F[k].x();
         field.u2[n] += w * F[k].y();
       }
@@ -36,23 +31,36 @@ void spread_forces(const ChannelMesh& m, const Points& r, const Points& F, Veloc
   }
 }
 
-void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const Points& r, Points& U) {
+void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const std::vector<NodeStencil>& st, Points& U) {
   // U(r) = Σ_x h² u(x) δ_h δ_h = Σ_x u(x) φ φ.
-  U.assign(r.size(), Eigen::Vector2d::Zero());
-  for (std::size_t k = 0; k < r.size(); ++k) {
-    const Stencil s = stencil(m, r[k]);
+  U.assign(st.size(), Eigen::Vector2d::Zero());
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const NodeStencil& s = st[k];
     Eigen::Vector2d v = Eigen::Vector2d::Zero();
     for (int b = 0; b < 4; ++b) {
       const int j = s.j0 + b;
       if (j < 0 || j > m.ny) continue;  // beyond the walls: no mesh node
-      for (int a = 0; a < 4; ++a) {
+      const std::size_t row = std::size_t(j) * m.nx;
+      for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {
         const double w = s.wx[a] * s.wy[b];
-        const std::size_t n = m.v(s.i0 + a, j);
+        const std::size_t n = row + i;
         v += w * Eigen::Vector2d(u.u1[n], u.u2[n]);
       }
     }
     U[k] = v;
   }
+}
+
+void spread_forces(const ChannelMesh& m, const Points& r, const Points& F, VelocityField& field) {
+  std::vector<NodeStencil> st;
+  node_stencils(m, r, st);
+  spread_forces(m, st, F, field);
+}
+
+void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const Points& r, Points& U) {
+  std::vector<NodeStencil> st;
+  node_stencils(m, r, st);
+  interpolate_velocity(m, u, st, U);
 }
 
 }  // namespace rbc

@@ -16,9 +16,22 @@
 
 namespace rbc {
 
+#include <vector>
+
+// The 4 × 4 stencil of one node: first column and row, and the weights φ in each
+// direction. Computing it is most of the cost of a transfer; a solver that spreads and
+// interpolates many times at fixed positions computes the stencils once (node_stencils).
+struct NodeStencil {
+  int i0, j0;  // i0 wrapped into [0, nx) (nx is even, so its parity is the unwrapped one's)
+  double wx[4], wy[4];
+};
+void node_stencils(const ChannelMesh& mesh, const Points& r, std::vector<NodeStencil>& stencils);
+
 // Adds the spread of forces F at positions r to field (interior nodes only).
 void spread_forces(const ChannelMesh& mesh, const Points& r, const Points& F, VelocityField& field);
+void spread_forces(const ChannelMesh& mesh, const std::vector<NodeStencil>& r, const Points& F, VelocityField& field);
 // U(r_i) for every node.
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const Points& r, Points& U);
+void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const std::vector<NodeStencil>& r, Points& U);
 
 }  // namespace rbc

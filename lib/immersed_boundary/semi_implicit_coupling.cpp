@@ -1,8 +1,11 @@
 #include "immersed_boundary/semi_implicit_coupling.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
+
+#include <omp.h>
 
 #include "immersed_boundary/immersed_boundary.hpp"
 
@@ -24,6 +27,10 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       work_pressure_(flow.mesh().pressure_nodes(), 0.0) {}
 
 namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
   Points p(n);
   for (int i = 0; i < n; ++i) p[i] = Eigen::Vector2d(v[offset + 2 * i], v[offset + 2 * i + 1]);
@@ -33,22 +40,40 @@ Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
 
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
-  for (VelocityField* g : {&work_, &work_force_}) {
-    std::fill(g->u1.begin(), g->u1.end(), 0.0);
-    std::fill(g->u2.begin(), g->u2.end(), 0.0);
+  ++cost_.products;
+  const int ncells = int(cells.size());
+  // S K v: each thread spreads its share of the cells (a fixed share: the sum is the same from
+  // run to run for a given thread count) into its own field; the fields are then added in order.
+  const int threads = std::max(1, std::min(omp_get_max_threads(), ncells));
+  if (int(thread_force_.size()) != threads) thread_force_.assign(threads, VelocityField(mesh_));
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    VelocityField& f = thread_force_[t];
+    std::fill(f.u1.begin(), f.u1.end(), 0.0);
+    std::fill(f.u2.begin(), f.u2.end(), 0.0);
+    for (int c = t * ncells / threads; c < (t + 1) * ncells / threads; ++c) {
+      const Eigen::Index n = offset_[c + 1] - offset_[c];
+      const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
+      spread_forces(mesh_, stencils_[c], as_points(kv, 0, int(cells[c].nodes.size())), f);
+    }
   }
   VelocityField& f = work_force_;
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    const Eigen::Index n = offset_[c + 1] - offset_[c];
-    const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
-    spread_forces(mesh_, cells[c].nodes, as_points(kv, 0, int(cells[c].nodes.size())), f);
-  }
+  f = thread_force_[0];
+  for (int t = 1; t < threads; ++t)
+    for (std::size_t k = 0; k < f.u1.size(); ++k) {
+      f.u1[k] += thread_force_[t].u1[k];
+      f.u2[k] += thread_force_[t].u2[k];
+    }
+  std::fill(work_.u1.begin(), work_.u1.end(), 0.0);
+  std::fill(work_.u2.begin(), work_.u2.end(), 0.0);
   flow_.diffusion().add_force_response(work_, f);
   flow_.projection().project(work_, work_pressure_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
-  Points U;
-  for (std::size_t c = 0; c < cells.size(); ++c) {
-    interpolate_velocity(mesh_, work_, cells[c].nodes, U);
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < ncells; ++c) {
+    Points U;
+    interpolate_velocity(mesh_, work_, stencils_[c], U);
     out.segment(offset_[c], 2 * U.size()) += dt_ * Eigen::Map<const Eigen::VectorXd>(U[0].data(), 2 * U.size());
   }
   return out;
@@ -56,7 +81,8 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
 
 Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v) const {
   Eigen::VectorXd out(v.size());
-  for (std::size_t c = 0; c < blocks_.size(); ++c) {
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < int(blocks_.size()); ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
   }
@@ -70,10 +96,14 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // for the change, with the tolerance still relative to the full right-hand side.
   const int max_it = kCouplingMaxIterations;
   const bool warm = last_U_.size() == rhs.size();
-  const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, last_U_)) : rhs;
+  Eigen::VectorXd x0 = warm ? last_U_ : Eigen::VectorXd();
+  if (warm && kExtrapolateStart && before_last_U_.size() == rhs.size()) x0 = 2.0 * last_U_ - before_last_U_;
+  const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, x0)) : rhs;
   const double bnorm = b.norm(), target = tolerance_ * rhs.norm();
-  if (bnorm <= target) return last_U_;
-  Eigen::MatrixXd V(b.size(), max_it + 1), H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
+  if (bnorm <= target) return x0;
+  if (basis_.rows() != b.size()) basis_.resize(b.size(), max_it + 1);
+  Eigen::MatrixXd& V = basis_;
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(max_it + 1), cs(max_it), sn(max_it);
   V.col(0) = b / bnorm;
   g[0] = bnorm;
@@ -110,52 +140,68 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
                              std::to_string(max_it) + " GMRES iterations");
   const Eigen::VectorXd y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
   Eigen::VectorXd U = precondition(V.leftCols(k) * y);
-  if (warm) U += last_U_;
+  if (warm) U += x0;
   return U;
 }
 
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
+  using clock = std::chrono::steady_clock;
+  auto t0 = clock::now();
+  ++cost_.steps;
   std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
   std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
   const int ncells = int(cells.size());
-  // P u⁰: the velocity step 1 would hand to step 2 without the correction.
+  offset_.assign(ncells + 1, 0);
+  for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
+  // P u⁰: the velocity step 1 would hand to step 2 without the correction; U⁰ = J P u⁰ at the
+  // nodes, unknowns (x_1, y_1, x_2, …).
   projected_ = u;
   flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
+  stencils_.resize(ncells);
+  Eigen::VectorXd rhs(offset_[ncells]);
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < ncells; ++c) {
+    node_stencils(mesh_, cells[c].nodes, stencils_[c]);
+    Points U0;
+    interpolate_velocity(mesh_, projected_, stencils_[c], U0);
+    rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
+  }
+  cost_.predictor += seconds_since(t0);
+  t0 = clock::now();
   // With several cells the blocks only precondition GMRES (the matrix-vector product is exact),
   // so they are rebuilt every kBlockRefreshSteps steps; one cell's block is its whole system.
   const bool rebuild = ncells == 1 || int(blocks_.size()) != ncells || steps_since_rebuild_ >= kBlockRefreshSteps;
   steps_since_rebuild_ = rebuild ? 1 : steps_since_rebuild_ + 1;
   blocks_.resize(ncells);
-  offset_.assign(ncells + 1, 0);
-  for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
-  Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     const Points& r = cells[c].nodes;
-    const int n = int(r.size());
-    // U⁰ = J P u⁰ at the nodes, unknowns (x_1, y_1, x_2, …).
-    Points U0;
-    interpolate_velocity(mesh_, projected_, r, U0);
-    rhs.segment(offset_[c], 2 * n) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * n);
-    // The cell's own system I + Δt M_cc K_c, factored once.
     blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
     if (!rebuild) continue;
+    // The cell's own system I + Δt M_cc K_c, factored once.
     Eigen::MatrixXd M;
     mobility_.matrix(r, M);
     Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
     B.diagonal().array() += 1.0;
     blocks_[c].lu.compute(B);
   }
+  if (rebuild) cost_.block_builds += ncells;
+  cost_.blocks += seconds_since(t0);
+  t0 = clock::now();
   // One cell: its own system is the whole system. Several: the coupled solve.
   last_iterations_ = 0;
   const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
+  before_last_U_ = last_U_;
   last_U_ = U;
+  cost_.coupled += seconds_since(t0);
+  t0 = clock::now();
   // ΔF = −Δt K U, the change of the spring force over the coming step.
   for (int c = 0; c < ncells; ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     const Eigen::VectorXd f = -dt_ * blocks_[c].K.apply(U.segment(offset_[c], n));
-    spread_forces(mesh_, cells[c].nodes, as_points(f, 0, int(n / 2)), correction_);
+    spread_forces(mesh_, stencils_[c], as_points(f, 0, int(n / 2)), correction_);
   }
+  cost_.correction += seconds_since(t0);
   return correction_;
 }
 

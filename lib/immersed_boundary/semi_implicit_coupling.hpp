@@ -25,13 +25,14 @@
 // GMRES, preconditioned by each cell's own system (exact, factored once per step); each
 // iteration is one more fast solve and projection (the exact M K v, the long way). Since the
 // blocks only precondition, they are rebuilt every kBlockRefreshSteps steps when there are
-// several cells (building them is the dominant cost at 100 cells).
+// several cells (building them is a large part of the cost at 100 cells).
 #include <vector>
 
 #include <Eigen/Dense>
 
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
+#include "immersed_boundary/immersed_boundary.hpp"
 #include "immersed_boundary/step_mobility.hpp"
 #include "membrane/membrane_stiffness.hpp"
 
@@ -47,9 +48,21 @@ class SemiImplicitMembraneStep {
   // step-4 response turns u⁰ into u^{n+1}.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
   int last_iterations() const { return last_iterations_; }  // GMRES iterations of the last step (0: one cell)
+  // Where the time goes (wall seconds accumulated since construction; for the benchmark).
+  struct Cost {
+    double predictor = 0;  // P u⁰ and U⁰ = J P u⁰
+    double blocks = 0;     // K of every cell; M_cc and the LU of the blocks when they are rebuilt
+    double coupled = 0;    // GMRES: matrix-vector products (spread, solve, project, interpolate) and the rest
+    double correction = 0; // spreading −Δt K U
+    long steps = 0, block_builds = 0, products = 0;
+  };
+  const Cost& cost() const { return cost_; }
 
   static constexpr int kCouplingMaxIterations = 60;
-  static constexpr int kBlockRefreshSteps = 10;  // several cells: preconditioner blocks rebuilt every 10 steps
+  // Several cells: preconditioner blocks rebuilt every 10 steps. Measured (100 cells, wide grid,
+  // 2e-6 s): the iterations climb from 4 to 6-7 within 6-8 steps after a rebuild whatever the
+  // interval, and rebuilding when they had grown by 2 (every ~7 steps) cost more than every 10.
+  static constexpr int kBlockRefreshSteps = 10;
 
  private:
   ChannelFlow& flow_;
@@ -69,11 +82,16 @@ class SemiImplicitMembraneStep {
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
+  std::vector<std::vector<NodeStencil>> stencils_;  // each cell's transfer stencils at r^{n+1}
   VelocityField work_, work_force_;  // GMRES matrix-vector product: velocity and force fields
+  std::vector<VelocityField> thread_force_;  // one force field per thread (spreading in parallel)
+  Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   std::vector<double> work_pressure_;
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
-  Eigen::VectorXd last_U_;  // the last step's node velocities, GMRES's starting point
+  Cost cost_;
+  Eigen::VectorXd last_U_, before_last_U_;  // node velocities of the last two steps: GMRES's start
+  static constexpr bool kExtrapolateStart = true;
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v) const;
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);

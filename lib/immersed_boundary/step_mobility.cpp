@@ -4,7 +4,7 @@
 
 #include <omp.h>
 
-#include "immersed_boundary/peskin_delta.hpp"
+#include "immersed_boundary/immersed_boundary.hpp"
 
 namespace rbc {
 
@@ -36,23 +36,13 @@ StepMobility::StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion
       }
 }
 
-namespace {
-struct NodeStencil {
-  int i0, j0;  // first column (unwrapped) and first row of the 4 × 4 stencil
-  double wx[4], wy[4];
-};
-}  // namespace
-
 void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
   // Two stages. (a) The response of every source node l at the footprint (the mesh nodes under
   // any node's stencil): R_l(x) = Σ_{q, qx} φ_l T(x − source); (b) M_kl = Σ_{x ∈ stencil k} φ_k(x) R_l(x).
   // 64 multiply-adds per (l, footprint node) and per pair, instead of 16 × 7 × 8 per pair.
   const int n = int(r.size()), nx = m_.nx;
-  std::vector<NodeStencil> st(n);
-  for (int k = 0; k < n; ++k) {
-    st[k].i0 = peskin_weights(r[k].x() / m_.h, st[k].wx);
-    st[k].j0 = peskin_weights(r[k].y() / m_.h, st[k].wy);
-  }
+  std::vector<NodeStencil> st;
+  node_stencils(m_, r, st);
   // The footprint: interior mesh nodes (column mod nx, interior row) under some stencil; slot
   // of each stencil point (−1 for rows on or beyond the walls).
   std::vector<int> slot(std::size_t(n) * 16, -1);
@@ -63,7 +53,7 @@ void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
       const int j = st[k].j0 + p - 1;
       if (j < 0 || j >= rows_) continue;
       for (int px = 0; px < 4; ++px) {
-        const int i = ((st[k].i0 + px) % nx + nx) % nx;
+        const int i = st[k].i0 + px < nx ? st[k].i0 + px : st[k].i0 + px - nx;
         int& id = index[std::size_t(j) * nx + i];
         if (id < 0) { id = int(points.size()); points.push_back({i, j}); }
         slot[std::size_t(k) * 16 + p * 4 + px] = id;
@@ -81,9 +71,12 @@ void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
         const int js = b.j0 + q - 1;
         if (js < 0 || js >= rows_) continue;
         for (int qx = 0; qx < 4; ++qx) {
-          const int src = b.i0 + qx;
+          const int src = b.i0 + qx;  // in [0, nx + 3): i − src in (−nx − 3, nx)
           const double w = b.wy[q] * b.wx[qx];
-          const double* g = entry(j, js, ((i - src) % nx + nx) % nx) + 4 * (((src % 2) + 2) % 2);
+          int di = i - src;
+          di += di < 0 ? nx : 0;
+          di += di < 0 ? nx : 0;
+          const double* g = entry(j, js, di) + 4 * (src & 1);
           for (int v = 0; v < 4; ++v) acc[v] += w * g[v];
         }
       }
