@@ -150,7 +150,7 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
   const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_outputs";
   std::filesystem::remove_all(out);
   const Scene scene = parse_scene(kGood, "scene.toml");
-  const RunSummary s = run_scene(scene, {out.string(), 1, false});
+  const RunSummary s = run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
   EXPECT_EQ(s.steps, 20);
   std::ifstream js(out / "summary.json");
   const nlohmann::json j = nlohmann::json::parse(js);
@@ -169,7 +169,7 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
 
 TEST(SceneRunner, UnwritableOutputFolderIsASceneError) {
   const Scene scene = parse_scene(kGood, "scene.toml");
-  EXPECT_THROW(run_scene(scene, {"/proc/rbcflow-cannot-write-here", 1, false}), SceneError);
+  EXPECT_THROW(run_scene(scene, {.out_dir = "/proc/rbcflow-cannot-write-here", .threads = 1, .progress = false}), SceneError);
 }
 
 // The executable: exit codes and one-line messages for bad command lines.

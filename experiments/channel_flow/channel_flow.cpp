@@ -38,7 +38,7 @@ Results run(const Params& p) {
     const Scene scene = load_scene_file(scene_path, overrides);
     const std::string out = (std::filesystem::path(p.out_dir) / which).string();
     ChannelResult r;
-    r.summary = run_scene(scene, {out, p.threads, p.progress});
+    r.summary = run_scene(scene, {.out_dir = out, .threads = p.threads, .progress = p.progress});
 
     // Compare with the exact solutions: the parabola at the end, the mean during start-up.
     const double mu = scene.fluid.viscosity, nu = mu / scene.fluid.density, H = scene.height;

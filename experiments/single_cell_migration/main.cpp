@@ -22,10 +22,13 @@ int main(int argc, char** argv) {
   bool reuse = false;
   app.add_option("--only", only, "run only the cases whose name starts with this (e.g. wide, narrow_si)");
   app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
+  bool resume = false;
+  app.add_flag("--resume", resume, "continue cases stopped by SIGINT/SIGTERM from the checkpoint in their folder");
   CLI11_PARSE(app, argc, argv);
   scm::Params p = quick ? scm::Params::quick_params() : scm::Params{};
   p.only = only;
   p.reuse = reuse;
+  p.resume = resume;
   if (!out.empty()) p.out_dir = out;
   p.threads = threads;
   try {
@@ -49,6 +52,9 @@ int main(int argc, char** argv) {
     if (!r.units_evidence.empty()) std::ofstream(p.out_dir + "/units_evidence.md") << r.units_evidence;
     if (!check) return 0;
     return rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout);
+  } catch (const rbc::RunInterrupted& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "single_cell_migration: %s\n", e.what());
     return 2;

@@ -51,6 +51,7 @@ plot for [s in ratios] dir.'/narrow_si_s'.s.'/series.csv' using (column("t")*1e3
 
 # Figure 5: centroid height in the wide channel, 800 ms (semi-implicit coupling).
 set output figdir.'/single_cell_migration_fig5.png'
+set key bottom right
 set title 'Fig. 5: centroid height in the 100 x 50 um channel (centreline 25 um; semi-implicit coupling)'
 set xlabel 't (ms)'
 set autoscale x

@@ -217,6 +217,7 @@ Results run(const Params& p) {
   std::mutex lock;
   std::size_t next = 0;
   std::string failure;
+  int interrupted = 0;  // the signal that stopped the runs
   auto worker = [&](int threads) {
     for (;;) {
       Job job;
@@ -232,7 +233,10 @@ Results run(const Params& p) {
         c.swelling_ratio = job.scene.cells[0].swelling_ratio;
         c.units = job.scene.membrane_constants.units;
         const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), job.scene) : std::nullopt;
-        c.summary = done ? *done : run_scene(job.scene, {out.string(), threads, p.progress, job.name});
+        const bool resume = p.resume && !done && fs::exists(out / "checkpoint.bin");
+        c.summary = done ? *done
+                         : run_scene(job.scene, {.out_dir = out.string(), .threads = threads, .progress = p.progress,
+                                                 .label = job.name, .resume = resume});
         c.t = csv_column((out / "series.csv").string(), "t");
         c.y = csv_column((out / "series.csv").string(), "cell0_y");
         c.hematocrit0 = csv_column((out / "series.csv").string(), "hematocrit").front();
@@ -242,6 +246,11 @@ Results run(const Params& p) {
         if (fs::exists(out / "snapshots.dat")) write_centred_snapshots(out / "snapshots.dat", out / "snapshots_centred.dat");
         std::lock_guard<std::mutex> g(lock);
         res.cases[job.name] = c;
+      } catch (const RunInterrupted& e) {
+        std::lock_guard<std::mutex> g(lock);
+        std::fprintf(stderr, "%s: %s\n", job.name.c_str(), e.what());
+        interrupted = e.signal;
+        if (failure.empty()) failure = "interrupted";
       } catch (const RunFailure& e) {
         // An unstable case is reported, not hidden: its rows fail with the cause.
         Case c;
@@ -263,6 +272,9 @@ Results run(const Params& p) {
     a.join();
     b.join();
   }
+  if (interrupted)
+    throw RunInterrupted("single_cell_migration: stopped by a signal after writing the checkpoints of the running cases; "
+                         "continue with the same command and --resume (add --reuse to read the finished cases)", interrupted);
   if (!failure.empty()) throw RunFailure(failure);
   if (!conv.empty() && (p.only.empty() || std::string("conv").rfind(p.only, 0) == 0 || p.only.rfind("conv", 0) == 0))
     convergence_table(p, conv, res);

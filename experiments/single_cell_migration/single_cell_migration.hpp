@@ -64,6 +64,9 @@ struct Params {
   // reuse: a case whose output folder holds a finished run of the same scene is read, not rerun.
   std::string only;
   bool reuse = false;
+  // resume: a case whose folder holds a checkpoint (a run stopped by SIGINT/SIGTERM) continues
+  // from it. SIGINT/SIGTERM stop every running case after its checkpoint (RunInterrupted).
+  bool resume = false;
   // Checks.
   double centreline_band = 0.25e-6;  // |y − H/2| that counts as "on the centreline", m (2 mesh cells)
   double centreline_check_time = 7e-3;  // s (Figure 4's axis ends at 7 ms)

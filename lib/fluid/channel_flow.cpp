@@ -71,4 +71,20 @@ ProjectionReport ChannelFlow::step() {
   return r;
 }
 
+void ChannelFlow::save(CheckpointWriter& w) const {
+  w.put(u_.u1);
+  w.put(u_.u2);
+  w.put(pressure_);
+  w.put(t_);
+  w.put(std::int64_t(steps_));
+}
+
+void ChannelFlow::load(CheckpointReader& r) {
+  u_.u1 = r.get_doubles(u_.u1.size(), "the velocity u1");
+  u_.u2 = r.get_doubles(u_.u2.size(), "the velocity u2");
+  pressure_ = r.get_doubles(pressure_.size(), "the pressure");
+  t_ = r.get_double();
+  steps_ = long(r.get_int());
+}
+
 }  // namespace rbc

@@ -6,6 +6,7 @@
 
 #include "fluid/diffusion.hpp"
 #include "fluid/quasi_stokes.hpp"
+#include "io/checkpoint.hpp"
 #include "fluid/wave_like_advection.hpp"
 #include "mesh/channel_mesh.hpp"
 
@@ -68,6 +69,9 @@ class ChannelFlow {
   QuasiStokesProjection& projection() { return projection_; }
   double time() const { return t_; }
   long steps() const { return steps_; }
+  // Checkpoints: velocity, pressure (the warm start of the next projection), clock.
+  void save(CheckpointWriter& w) const;
+  void load(CheckpointReader& r);
 
  private:
   void apply_wall_velocity();

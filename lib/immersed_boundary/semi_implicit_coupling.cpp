@@ -173,17 +173,16 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   const bool rebuild = ncells == 1 || int(blocks_.size()) != ncells || steps_since_rebuild_ >= kBlockRefreshSteps;
   steps_since_rebuild_ = rebuild ? 1 : steps_since_rebuild_ + 1;
   blocks_.resize(ncells);
+  if (rebuild) block_nodes_.resize(ncells > 1 ? ncells : 0);  // one cell: its block is rebuilt every step
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     const Points& r = cells[c].nodes;
-    blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
-    if (!rebuild) continue;
-    // The cell's own system I + Δt M_cc K_c, factored once.
-    Eigen::MatrixXd M;
-    mobility_.matrix(r, M);
-    Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
-    B.diagonal().array() += 1.0;
-    blocks_[c].lu.compute(B);
+    if (rebuild) {
+      build_block(c, r, cells[c].target_area);
+      if (ncells > 1) block_nodes_[c] = r;
+    } else {
+      blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
+    }
   }
   if (rebuild) cost_.block_builds += ncells;
   cost_.blocks += seconds_since(t0);
@@ -203,6 +202,61 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   }
   cost_.correction += seconds_since(t0);
   return correction_;
+}
+
+void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area) {
+  // The cell's own system I + Δt M_cc K_c at nodes r, factored once.
+  blocks_[c].K = membrane_stiffness(model_, r, target_area);
+  Eigen::MatrixXd M;
+  mobility_.matrix(r, M);
+  Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
+  B.diagonal().array() += 1.0;
+  blocks_[c].lu.compute(B);
+}
+
+namespace {
+std::vector<double> flatten(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+Eigen::VectorXd unflatten(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); }
+}  // namespace
+
+void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
+  w.put(pressure_);
+  w.put(flatten(last_U_));
+  w.put(flatten(before_last_U_));
+  w.put(std::int64_t(steps_since_rebuild_));
+  w.put(std::int64_t(last_iterations_));
+  w.put(std::int64_t(block_nodes_.size()));
+  for (const Points& r : block_nodes_) {
+    std::vector<double> flat(2 * r.size());
+    for (std::size_t i = 0; i < r.size(); ++i) { flat[2 * i] = r[i].x(); flat[2 * i + 1] = r[i].y(); }
+    w.put(flat);
+  }
+}
+
+void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>& cells) {
+  pressure_ = r.get_doubles(pressure_.size(), "the semi-implicit predictor's pressure");
+  std::size_t unknowns = 0;
+  for (const Cell& c : cells) unknowns += 2 * c.nodes.size();
+  const std::vector<double> U = r.get_doubles(), U1 = r.get_doubles();
+  for (const std::vector<double>* v : {&U, &U1})
+    if (!v->empty() && v->size() != unknowns) throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
+  last_U_ = unflatten(U);
+  before_last_U_ = unflatten(U1);
+  steps_since_rebuild_ = int(r.get_int());
+  last_iterations_ = int(r.get_int());
+  const std::int64_t nblocks = r.get_int();
+  if (nblocks != 0 && nblocks != std::int64_t(cells.size()))
+    throw CheckpointError(r.path() + ": preconditioner blocks for " + std::to_string(nblocks) + " cells, the scene has " +
+                          std::to_string(cells.size()));
+  block_nodes_.assign(std::size_t(nblocks), Points());
+  for (std::size_t c = 0; c < block_nodes_.size(); ++c) {
+    const std::vector<double> flat = r.get_doubles(2 * cells[c].nodes.size(), "the nodes of a preconditioner block");
+    for (std::size_t i = 0; i < flat.size() / 2; ++i) block_nodes_[c].push_back(Eigen::Vector2d(flat[2 * i], flat[2 * i + 1]));
+  }
+  // The blocks as the uninterrupted run has them (built from the same nodes the same way).
+  blocks_.resize(block_nodes_.size());
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area);
 }
 
 }  // namespace rbc

@@ -31,6 +31,7 @@
 #include <Eigen/Dense>
 
 #include "fluid/channel_flow.hpp"
+#include "io/checkpoint.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
 #include "immersed_boundary/step_mobility.hpp"
@@ -48,6 +49,11 @@ class SemiImplicitMembraneStep {
   // step-4 response turns u⁰ into u^{n+1}.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
   int last_iterations() const { return last_iterations_; }  // GMRES iterations of the last step (0: one cell)
+  // Checkpoints: the projection's warm start, GMRES's starting point and the nodes the current
+  // preconditioner blocks were built at (load rebuilds them from those nodes, so a resumed run
+  // takes the same steps bit for bit).
+  void save(CheckpointWriter& w) const;
+  void load(CheckpointReader& r, const std::vector<Cell>& cells);
   // Where the time goes (wall seconds accumulated since construction; for the benchmark).
   struct Cost {
     double predictor = 0;  // P u⁰ and U⁰ = J P u⁰
@@ -92,6 +98,8 @@ class SemiImplicitMembraneStep {
   Cost cost_;
   Eigen::VectorXd last_U_, before_last_U_;  // node velocities of the last two steps: GMRES's start
   static constexpr bool kExtrapolateStart = true;
+  std::vector<Points> block_nodes_;  // the nodes at the last rebuild of the blocks
+  void build_block(int c, const Points& r, double target_area);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v) const;
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);

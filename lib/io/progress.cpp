@@ -38,7 +38,7 @@ void ProgressMeter::finish(long step, double t) {
 
 void ProgressMeter::print(long step, double t, bool final) {
   const double el = elapsed_seconds();
-  const double rate = el > 0 ? step / el : 0;
+  const double rate = el > 0 ? (step - first_) / el : 0;
   const double left = rate > 0 ? (total_ - step) / rate : INFINITY;
   std::fprintf(stderr, "%s%s: t = %.4g / %.4g s (%5.1f %%), step %ld/%ld, %.0f steps/s, %s %s%s", tty_ ? "\r" : "",
                label_.c_str(), t, t_end_, 100.0 * step / std::max(1L, total_), step, total_, rate,

@@ -11,13 +11,14 @@ class ProgressMeter {
  public:
   ProgressMeter(std::string label, long total_steps, double t_end, bool enabled);
   void update(long step, double t);
+  void resumed_at(long step) { first_ = step; }  // a resumed run: rates count from here
   void finish(long step, double t);
   double elapsed_seconds() const;
 
  private:
   void print(long step, double t, bool final);
   std::string label_;
-  long total_;
+  long total_, first_ = 0;
   double t_end_;
   bool enabled_, tty_;
   std::chrono::steady_clock::time_point start_, last_;

@@ -1,14 +1,18 @@
 #include "scene/run_scene.hpp"
 
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 #include <omp.h>
 
 #include "diagnostics/flow_diagnostics.hpp"
+#include "io/checkpoint.hpp"
 #include "io/progress.hpp"
 #include "io/vtk.hpp"
 
@@ -53,7 +57,128 @@ void write_membranes(std::ofstream& f, const std::vector<Cell>& cells, double t)
   f << "\n";
 }
 
+// SIGINT and SIGTERM set a flag that the runs check after every step; the handlers are
+// installed while at least one run is going (the experiments run two in one process).
+volatile std::sig_atomic_t g_stop_signal = 0;
+extern "C" void on_stop_signal(int sig) { g_stop_signal = sig; }
+
+class StopSignals {
+ public:
+  StopSignals() {
+    std::lock_guard<std::mutex> g(lock());
+    if (users()++ > 0) return;
+    g_stop_signal = 0;
+    struct sigaction a {};
+    a.sa_handler = on_stop_signal;
+    sigemptyset(&a.sa_mask);
+    sigaction(SIGINT, &a, &old_int());
+    sigaction(SIGTERM, &a, &old_term());
+  }
+  ~StopSignals() {
+    std::lock_guard<std::mutex> g(lock());
+    if (--users() > 0) return;
+    sigaction(SIGINT, &old_int(), nullptr);
+    sigaction(SIGTERM, &old_term(), nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+ private:
+  static std::mutex& lock() { static std::mutex m; return m; }
+  static int& users() { static int n = 0; return n; }
+  static struct sigaction& old_int() { static struct sigaction a {}; return a; }
+  static struct sigaction& old_term() { static struct sigaction a {}; return a; }
+};
+
+const char* signal_name(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "a signal"; }
+
+// The run's own bookkeeping that a checkpoint must carry for the outputs to continue exactly.
+struct RunState {
+  std::int64_t series_bytes = 0, snapshot_bytes = 0;  // output file sizes at the checkpoint
+  double u_sum = 0;                                   // mean-velocity average in progress
+  std::int64_t u_count = 0;
+  double last_mean = 0;
+  std::int64_t next_snapshot = 0, vtk_count = 0;
+  double wall_seconds = 0;  // spent before this session
+};
+
+// The scene's TOML without comment lines (the first names where the scene was read from).
+std::vector<std::string> scene_lines(const std::string& toml) {
+  std::vector<std::string> lines;
+  std::istringstream in(toml);
+  for (std::string l; std::getline(in, l);)
+    if (!l.empty() && l[0] != '#') lines.push_back(l);
+  return lines;
+}
+
+// Header of every checkpoint: version, scene source and TOML, thread count.
+struct CheckpointHeader {
+  std::string version, source, scene_toml;
+  std::int64_t threads = 0;
+};
+
+CheckpointHeader read_header(CheckpointReader& r) {
+  CheckpointHeader h;
+  h.version = r.get_string();
+  h.source = r.get_string();
+  h.scene_toml = r.get_string();
+  h.threads = r.get_int();
+  return h;
+}
+
+// The newest valid checkpoint of dir: checkpoint.bin, else checkpoint.bin.prev (with a warning).
+CheckpointReader open_checkpoint(const fs::path& dir) {
+  const fs::path newest = dir / "checkpoint.bin", previous = dir / "checkpoint.bin.prev";
+  if (!fs::exists(newest) && !fs::exists(previous))
+    throw CheckpointError(dir.string() + ": no checkpoint to resume from (checkpoint.bin)");
+  std::string why;
+  for (const fs::path& p : {newest, previous}) {
+    if (!fs::exists(p)) continue;
+    try {
+      CheckpointReader r(p.string());
+      if (p == previous) std::fprintf(stderr, "rbcflow: warning: %s; resuming from %s\n", why.c_str(), p.c_str());
+      return r;
+    } catch (const CheckpointError& e) {
+      why += (why.empty() ? "" : "; ") + std::string(e.what());
+    }
+  }
+  throw CheckpointError(why);
+}
+
+void write_checkpoint(const fs::path& dir, const Scene& scene, const Simulation& sim, const RunState& st) {
+  CheckpointWriter w;
+  w.put(std::string(RBCFLOW_VERSION));
+  w.put(scene.source);
+  w.put(scene_to_toml(scene));
+  w.put(std::int64_t(omp_get_max_threads()));
+  sim.save(w);
+  w.put(st.series_bytes);
+  w.put(st.snapshot_bytes);
+  w.put(st.u_sum);
+  w.put(st.u_count);
+  w.put(st.last_mean);
+  w.put(st.next_snapshot);
+  w.put(st.vtk_count);
+  w.put(st.wall_seconds);
+  w.commit((dir / "checkpoint.bin").string());
+}
+
 }  // namespace
+
+Scene checkpoint_scene(const std::string& dir) {
+  CheckpointReader r = open_checkpoint(dir);
+  const CheckpointHeader h = read_header(r);
+  if (h.version != RBCFLOW_VERSION)
+    throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
+                          "; rerun the scene from the start");
+  try {
+    Scene s = parse_scene(h.scene_toml, r.path() + " (its scene)");
+    s.source = h.source;
+    return s;
+  } catch (const SceneError& e) {
+    throw CheckpointError(std::string("the scene stored in the checkpoint is not valid: ") + e.what());
+  }
+}
 
 RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
@@ -70,21 +195,63 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   const long every = std::max(1L, std::lround(scene.sample_interval() / scene.dt));
   const double fluid_area = scene.length * scene.height;
 
-  std::ofstream series(out / "series.csv");
-  series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
-  for (std::size_t k = 0; k < cells.size(); ++k)
-    for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
-  series << "\n";
+  // Resuming: the newest valid checkpoint, which must be of this scene and version.
+  RunState resumed;
+  if (opt.resume) {
+    CheckpointReader r = open_checkpoint(out);
+    const CheckpointHeader h = read_header(r);
+    if (h.version != RBCFLOW_VERSION)
+      throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
+                            "; rerun the scene from the start");
+    const std::vector<std::string> a = scene_lines(h.scene_toml), b = scene_lines(scene_to_toml(scene));
+    if (a != b) {
+      std::size_t k = 0;
+      while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
+      throw CheckpointError(r.path() + ": written for another scene (checkpoint: '" + (k < a.size() ? a[k] : "(end)") +
+                            "', this scene: '" + (k < b.size() ? b[k] : "(end)") + "')");
+    }
+    if (h.threads != omp_get_max_threads() && opt.progress)
+      std::fprintf(stderr, "rbcflow: note: the checkpoint was written with %lld threads, this run has %d: the results "
+                   "differ from an uninterrupted run at round-off level\n", (long long)h.threads, omp_get_max_threads());
+    sim.load(r);
+    resumed.series_bytes = r.get_int();
+    resumed.snapshot_bytes = r.get_int();
+    resumed.u_sum = r.get_double();
+    resumed.u_count = r.get_int();
+    resumed.last_mean = r.get_double();
+    resumed.next_snapshot = r.get_int();
+    resumed.vtk_count = r.get_int();
+    resumed.wall_seconds = r.get_double();
+    if (!r.at_end()) throw CheckpointError(r.path() + ": unexpected data after the run state (written by another version?)");
+    // The outputs as they were at the checkpoint.
+    for (const auto& [name, bytes] : {std::pair{"series.csv", resumed.series_bytes}, std::pair{"snapshots.dat", resumed.snapshot_bytes}}) {
+      if (bytes == 0) continue;
+      std::error_code ec;
+      const auto size = fs::file_size(out / name, ec);
+      if (ec || std::int64_t(size) < bytes)
+        throw CheckpointError((out / name).string() + ": shorter than when the checkpoint was written; cannot resume");
+      fs::resize_file(out / name, std::uintmax_t(bytes));
+    }
+  }
+  const bool fresh = !opt.resume;
+
+  std::ofstream series(out / "series.csv", fresh ? std::ios::trunc : std::ios::app);
   series.precision(10);
+  if (fresh) {
+    series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
+    for (std::size_t k = 0; k < cells.size(); ++k)
+      for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
+    series << "\n";
+  }
   std::ofstream snapshots;
-  if (!cells.empty()) snapshots.open(out / "snapshots.dat");
-  std::size_t next_snapshot = 0;
-  int vtk_count = 0;
+  if (!cells.empty()) snapshots.open(out / "snapshots.dat", fresh ? std::ios::trunc : std::ios::app);
+  std::size_t next_snapshot = std::size_t(resumed.next_snapshot);
+  int vtk_count = int(resumed.vtk_count);
   // The mean velocity of a sample is its average over the steps since the previous sample
   // (the instantaneous value at t = 0).
-  double u_sum = 0;
-  long u_count = 0;
-  double last_mean = mean_velocity(flow.mesh(), flow.velocity());
+  double u_sum = resumed.u_sum;
+  long u_count = long(resumed.u_count);
+  double last_mean = fresh ? mean_velocity(flow.mesh(), flow.velocity()) : resumed.last_mean;
   auto sample = [&] {
     if (u_count > 0) last_mean = u_sum / u_count;
     u_sum = 0;
@@ -112,23 +279,69 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   };
 
   ProgressMeter progress(opt.label, total, total * scene.dt, opt.progress);
-  sample();
-  if (!cells.empty()) snapshot_due();
-  while (sim.steps() < total) {
-    sim.step();
-    sim.check_health();
-    u_sum += mean_velocity(flow.mesh(), flow.velocity());
-    ++u_count;
-    if (sim.steps() % every == 0 || sim.steps() == total) sample();
+  progress.resumed_at(sim.steps());
+  if (fresh) {
+    sample();
     if (!cells.empty()) snapshot_due();
-    progress.update(sim.steps(), sim.time());
+  }
+  // Checkpoints: after a step that passed the health checks, with the outputs flushed.
+  StopSignals signals;
+  auto checkpoint = [&] {
+    series.flush();
+    if (snapshots.is_open()) snapshots.flush();
+    RunState st;
+    st.series_bytes = std::int64_t(series.tellp());
+    st.snapshot_bytes = snapshots.is_open() ? std::int64_t(snapshots.tellp()) : 0;
+    st.u_sum = u_sum;
+    st.u_count = u_count;
+    st.last_mean = last_mean;
+    st.next_snapshot = std::int64_t(next_snapshot);
+    st.vtk_count = vtk_count;
+    st.wall_seconds = resumed.wall_seconds + progress.elapsed_seconds();
+    write_checkpoint(out, scene, sim, st);
+  };
+  double last_checkpoint_wall = 0;
+  bool have_checkpoint = opt.resume;
+  try {
+    while (sim.steps() < total) {
+      const double t_before = sim.time();
+      sim.step();
+      sim.check_health();
+      u_sum += mean_velocity(flow.mesh(), flow.velocity());
+      ++u_count;
+      if (sim.steps() % every == 0 || sim.steps() == total) sample();
+      if (!cells.empty()) snapshot_due();
+      progress.update(sim.steps(), sim.time());
+      if (opt.after_step) opt.after_step(sim.steps());
+      if (const int sig = g_stop_signal) {
+        checkpoint();
+        std::ostringstream m;
+        m << "interrupted by " << signal_name(sig) << " at t = " << sim.time() << " s (step " << sim.steps()
+          << "); checkpoint written to " << (out / "checkpoint.bin").string() << "; continue with: rbcflow resume " << opt.out_dir;
+        throw RunInterrupted(m.str(), sig);
+      }
+      const double wall = progress.elapsed_seconds();
+      const bool by_wall = opt.checkpoint_wall > 0 && wall - last_checkpoint_wall >= opt.checkpoint_wall;
+      const bool by_sim = opt.checkpoint_sim > 0 &&
+                          std::floor(sim.time() / opt.checkpoint_sim + 1e-9) > std::floor(t_before / opt.checkpoint_sim + 1e-9);
+      if ((by_wall || by_sim) && sim.steps() < total) {
+        checkpoint();
+        last_checkpoint_wall = wall;
+        have_checkpoint = true;
+      }
+    }
+  } catch (const RunFailure& e) {
+    // The last checkpoint (if any) is the last good state: say where it is.
+    if (!have_checkpoint) throw;
+    throw RunFailure(std::string(e.what()) + "; the last good state is in " + (out / "checkpoint.bin").string() +
+                     " (resume with a smaller dt is not possible: the checkpoint belongs to this scene)");
   }
   progress.finish(sim.steps(), sim.time());
 
   RunSummary s;
   s.steps = sim.steps();
   s.t_end = sim.time();
-  s.wall_seconds = progress.elapsed_seconds();
+  s.wall_seconds = resumed.wall_seconds + progress.elapsed_seconds();
   s.mean_velocity = last_mean;
   s.reynolds = reynolds_number(s.mean_velocity, scene.fluid, scene.height);
   s.max_speed = max_speed(flow.velocity());

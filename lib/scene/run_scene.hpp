@@ -7,6 +7,7 @@
 //   membranes_final.dat  the membranes at the end
 //   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
 //   vtk/          ParaView files of the velocity, when [output] vtk = true
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -19,6 +20,23 @@ struct RunOptions {
   int threads = 0;        // 0: the OpenMP default
   bool progress = true;   // progress line on stderr
   std::string label = "rbcflow";  // names the run on the progress line
+  // Checkpoints (out_dir/checkpoint.bin, the one before as checkpoint.bin.prev): every
+  // checkpoint_wall seconds of wall-clock time and every checkpoint_sim seconds of simulated
+  // time (0: not on that clock), and on SIGINT or SIGTERM, after which the run stops
+  // (RunInterrupted). Only states that passed the health checks are written.
+  double checkpoint_wall = 600;  // s
+  double checkpoint_sim = 0;     // s
+  // Continue from the newest valid checkpoint in out_dir instead of starting afresh; the
+  // checkpoint must be of this scene and this version (CheckpointError otherwise).
+  bool resume = false;
+  // Called after every completed step (tests use it to interrupt a run at a chosen step).
+  std::function<void(long step)> after_step = nullptr;
+};
+
+// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
+struct RunInterrupted : std::runtime_error {
+  RunInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal(signal) {}
+  int signal;
 };
 
 struct RunSummary {
@@ -29,13 +47,17 @@ struct RunSummary {
   std::vector<CellState> cells;
 };
 
-// Throws SceneError (output folder not writable) or RunFailure (instability); in the latter case
-// series.csv holds every sample up to the failure.
+// Throws SceneError (output folder not writable), RunFailure (instability; series.csv holds
+// every sample up to the failure and the last checkpoint is kept), RunInterrupted (a signal;
+// checkpoint written) or CheckpointError (resume: no usable checkpoint of this scene).
 RunSummary run_scene(const Scene& scene, const RunOptions& options);
 
 // The summary of a finished run of this scene in dir (summary.json naming the same scene source,
 // Δt, coupling and end time), or nothing.
 std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene);
+
+// The scene a checkpoint was written for (rbcflow resume DIR); throws CheckpointError.
+Scene checkpoint_scene(const std::string& dir);
 
 // Creates dir (and parents) and checks that a file can be written in it; throws SceneError.
 void prepare_output_dir(const std::string& dir);

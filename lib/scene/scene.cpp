@@ -396,4 +396,40 @@ Scene load_scene_file(const std::string& path, const std::vector<std::string>& o
   return parse_scene(ss.str(), path, overrides);
 }
 
+namespace {
+// A TOML float that reads back to the same double.
+std::string toml_number(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  std::string t = b;
+  if (t.find_first_of(".eEn") == std::string::npos) t += ".0";  // "1" would be a TOML integer
+  return t;
+}
+}  // namespace
+
+std::string scene_to_toml(const Scene& s) {
+  std::ostringstream o;
+  auto num = [](double v) { return toml_number(v); };
+  o << "# written by rbcflow " << RBCFLOW_VERSION << " from " << s.source << "\n";
+  o << "[fluid]\ndensity = " << num(s.fluid.density) << "\nviscosity = " << num(s.fluid.viscosity) << "\n";
+  o << "[channel]\nlength = " << num(s.length) << "\nheight = " << num(s.height) << "\nmesh_size = " << num(s.mesh_size) << "\n";
+  if (s.reynolds0) o << "reynolds = " << num(*s.reynolds0) << "\n";
+  if (s.body_force) o << "body_force = " << num(*s.body_force) << "\n";
+  o << "wall_velocity = [" << num(s.wall_velocity[0]) << ", " << num(s.wall_velocity[1]) << "]\n";
+  o << "[time]\ndt = " << num(s.dt) << "\nend = " << num(s.end) << "\ncoupling = \"" << s.coupling
+    << "\"\nadvection_substeps = " << s.advection_substeps << "\n";
+  o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
+    << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\n";
+  o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
+  for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
+  o << "]\n";
+  o << "[membrane]\nnodes = " << s.membrane_nodes << "\nradius = " << num(s.membrane_radius) << "\nkl = "
+    << num(s.membrane_constants.kl) << "\nkb = " << num(s.membrane_constants.kb) << "\nks = " << num(s.membrane_constants.ks)
+    << "\nunits = \"" << s.membrane_constants.units << "\"\narea_penalty = " << (s.area_penalty ? "true" : "false") << "\n";
+  for (const CellSpec& c : s.cells)
+    o << "[[cell]]\ncenter = [" << num(c.center.x()) << ", " << num(c.center.y()) << "]\nswelling_ratio = "
+      << num(c.swelling_ratio) << "\nangle = " << num(c.angle) << "\n";
+  return o.str();
+}
+
 }  // namespace rbc

@@ -41,6 +41,9 @@ class Simulation {
   int last_cg_iterations() const { return last_projection_.iterations; }
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
   int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
+  // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
+  void save(CheckpointWriter& w) const;
+  void load(CheckpointReader& r);  // into a Simulation built from the same scene
   // The semi-implicit step (its cost breakdown), or null.
   const SemiImplicitMembraneStep* semi_implicit_step() const { return semi_implicit_step_.get(); }
 

@@ -1,0 +1,125 @@
+#include "io/checkpoint.hpp"
+
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace rbc {
+
+namespace {
+const char kMagic[] = "RBCFLOW-CHECKPOINT";  // 18 bytes, no terminator in the file
+constexpr std::size_t kMagicSize = sizeof(kMagic) - 1;
+constexpr std::size_t kHeader = kMagicSize + sizeof(std::uint32_t);
+}  // namespace
+
+std::uint64_t fnv1a64(const unsigned char* p, std::size_t n) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= p[i];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+void CheckpointWriter::raw(const void* p, std::size_t n) {
+  const auto* b = static_cast<const unsigned char*>(p);
+  bytes_.insert(bytes_.end(), b, b + n);
+}
+
+void CheckpointWriter::put(const std::string& s) {
+  put(std::int64_t(s.size()));
+  raw(s.data(), s.size());
+}
+
+void CheckpointWriter::put(const std::vector<double>& v) {
+  put(std::int64_t(v.size()));
+  raw(v.data(), v.size() * sizeof(double));
+}
+
+void CheckpointWriter::commit(const std::string& path) const {
+  namespace fs = std::filesystem;
+  std::vector<unsigned char> file(kMagic, kMagic + kMagicSize);
+  const std::uint32_t format = kCheckpointFormat;
+  const auto* f = reinterpret_cast<const unsigned char*>(&format);
+  file.insert(file.end(), f, f + sizeof format);
+  file.insert(file.end(), bytes_.begin(), bytes_.end());
+  const std::uint64_t sum = fnv1a64(file.data(), file.size());
+  const auto* s = reinterpret_cast<const unsigned char*>(&sum);
+  file.insert(file.end(), s, s + sizeof sum);
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(file.data()), std::streamsize(file.size()));
+    out.flush();
+    if (!out) throw CheckpointError(tmp + ": cannot write the checkpoint (disk full or folder not writable?)");
+  }
+  std::error_code ec;
+  if (fs::exists(path)) fs::rename(path, path + ".prev", ec);
+  if (ec) throw CheckpointError(path + ": cannot keep the previous checkpoint (" + ec.message() + ")");
+  fs::rename(tmp, path, ec);
+  if (ec) throw CheckpointError(path + ": cannot rename the new checkpoint into place (" + ec.message() + ")");
+}
+
+CheckpointReader::CheckpointReader(const std::string& path) : path_(path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CheckpointError(path + ": cannot open the checkpoint");
+  bytes_.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (bytes_.size() < kHeader + sizeof(std::uint64_t) || std::memcmp(bytes_.data(), kMagic, kMagicSize) != 0)
+    throw CheckpointError(path + ": not an rbcflow checkpoint");
+  std::uint32_t format = 0;
+  std::memcpy(&format, bytes_.data() + kMagicSize, sizeof format);
+  if (format != kCheckpointFormat)
+    throw CheckpointError(path + ": checkpoint format " + std::to_string(format) + ", this rbcflow reads format " +
+                          std::to_string(kCheckpointFormat));
+  end_ = bytes_.size() - sizeof(std::uint64_t);
+  std::uint64_t sum = 0;
+  std::memcpy(&sum, bytes_.data() + end_, sizeof sum);
+  if (sum != fnv1a64(bytes_.data(), end_)) throw CheckpointError(path + ": checksum mismatch (a damaged or truncated checkpoint)");
+  pos_ = kHeader;
+}
+
+void CheckpointReader::raw(void* p, std::size_t n) {
+  if (n > end_ - pos_) throw CheckpointError(path_ + ": ends too early (written by another version?)");
+  std::memcpy(p, bytes_.data() + pos_, n);
+  pos_ += n;
+}
+
+double CheckpointReader::get_double() {
+  double v;
+  raw(&v, sizeof v);
+  return v;
+}
+
+std::int64_t CheckpointReader::get_int() {
+  std::int64_t v;
+  raw(&v, sizeof v);
+  return v;
+}
+
+std::string CheckpointReader::get_string() {
+  const std::int64_t n = get_int();
+  if (n < 0 || std::size_t(n) > end_ - pos_) throw CheckpointError(path_ + ": a text record has an impossible length");
+  std::string s(static_cast<std::size_t>(n), '\0');
+  raw(s.data(), s.size());
+  return s;
+}
+
+std::vector<double> CheckpointReader::get_doubles() {
+  const std::int64_t n = get_int();
+  if (n < 0 || std::size_t(n) > (end_ - pos_) / sizeof(double))
+    throw CheckpointError(path_ + ": a field record has an impossible length");
+  std::vector<double> v(static_cast<std::size_t>(n));
+  raw(v.data(), v.size() * sizeof(double));
+  return v;
+}
+
+std::vector<double> CheckpointReader::get_doubles(std::size_t n, const char* what) {
+  std::vector<double> v = get_doubles();
+  if (v.size() != n)
+    throw CheckpointError(path_ + ": " + what + " has " + std::to_string(v.size()) + " values, this scene needs " +
+                          std::to_string(n));
+  return v;
+}
+
+}  // namespace rbc

@@ -1,0 +1,61 @@
+#pragma once
+// Checkpoint files (issue 5): everything the next step needs, in one binary file per run folder.
+//
+//   layout   "RBCFLOW-CHECKPOINT" magic, format number (uint32), then the payload (records
+//            written by the parts of the run, in order), then the FNV-1a 64-bit checksum of
+//            everything before it.
+//   writing  to NAME.tmp, flushed and checked, then renamed over NAME after the previous NAME
+//            was renamed to NAME.prev: a crash mid-write never leaves a corrupt newest file, and
+//            the previous checkpoint survives until the new one is complete.
+//   reading  the whole file, magic, format and checksum checked before any value is used; every
+//            read is bounds-checked. Any problem is a CheckpointError naming the file and what
+//            is wrong.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rbc {
+
+struct CheckpointError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+inline constexpr std::uint32_t kCheckpointFormat = 1;
+
+class CheckpointWriter {
+ public:
+  void put(double v) { raw(&v, sizeof v); }
+  void put(std::int64_t v) { raw(&v, sizeof v); }
+  void put(const std::string& s);
+  void put(const std::vector<double>& v);
+  // Writes the file as described above; throws CheckpointError if it cannot.
+  void commit(const std::string& path) const;
+
+ private:
+  void raw(const void* p, std::size_t n);
+  std::vector<unsigned char> bytes_;
+};
+
+class CheckpointReader {
+ public:
+  explicit CheckpointReader(const std::string& path);  // reads and checks the whole file
+  double get_double();
+  std::int64_t get_int();
+  std::string get_string();
+  std::vector<double> get_doubles();
+  // A vector that must have exactly n values (a field of this mesh, the nodes of this cell).
+  std::vector<double> get_doubles(std::size_t n, const char* what);
+  const std::string& path() const { return path_; }
+  bool at_end() const { return pos_ == end_; }
+
+ private:
+  void raw(void* p, std::size_t n);
+  std::string path_;
+  std::vector<unsigned char> bytes_;
+  std::size_t pos_ = 0, end_ = 0;  // payload range
+};
+
+std::uint64_t fnv1a64(const unsigned char* p, std::size_t n);
+
+}  // namespace rbc

@@ -1,0 +1,191 @@
+// Checkpoints (issue 5): a damaged file is refused, a run stopped by SIGTERM and resumed gives
+// bit for bit the series and summary of the run that went straight through, and a checkpoint of
+// another scene is refused with the key that differs.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "io/checkpoint.hpp"
+#include "scene/run_scene.hpp"
+
+namespace rbc {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_all(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(CheckpointFile, RoundTripsAndRefusesDamagedFiles) {
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_file";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string path = (dir / "c.bin").string();
+  CheckpointWriter w;
+  w.put(std::string("scene text"));
+  w.put(std::vector<double>{1.5, -2.0, 3e-300});
+  w.put(std::int64_t(-7));
+  w.put(0.1);
+  w.commit(path);
+  {
+    CheckpointReader r(path);
+    EXPECT_EQ(r.get_string(), "scene text");
+    EXPECT_EQ(r.get_doubles(), (std::vector<double>{1.5, -2.0, 3e-300}));
+    EXPECT_EQ(r.get_int(), -7);
+    EXPECT_EQ(r.get_double(), 0.1);
+    EXPECT_TRUE(r.at_end());
+    EXPECT_NE(error_of([&] { r.get_double(); }).find("ends too early"), std::string::npos);
+  }
+  // A second commit keeps the first as .prev and leaves no temporary file.
+  w.commit(path);
+  EXPECT_TRUE(fs::exists(path + ".prev"));
+  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  std::string bytes = read_all(path);
+  auto write = [&](const std::string& b) { std::ofstream(path, std::ios::binary | std::ios::trunc) << b; };
+  std::string flipped = bytes;
+  flipped[30] ^= 1;
+  write(flipped);
+  EXPECT_NE(error_of([&] { CheckpointReader r(path); }).find("checksum mismatch"), std::string::npos);
+  write(bytes.substr(0, bytes.size() - 5));
+  EXPECT_NE(error_of([&] { CheckpointReader r(path); }).find("checksum mismatch"), std::string::npos);
+  write("[channel]\nlength = 1\n");
+  EXPECT_NE(error_of([&] { CheckpointReader r(path); }).find("not an rbcflow checkpoint"), std::string::npos);
+  write("");
+  EXPECT_NE(error_of([&] { CheckpointReader r(path); }).find("not an rbcflow checkpoint"), std::string::npos);
+}
+
+// Two cells, semi-implicit (the GMRES start and the preconditioner blocks are state), or one
+// cell, explicit; a coarse narrow channel so that the test takes seconds.
+Scene two_cell_scene(const std::string& coupling, int cells = 2) {
+  Scene s;
+  s.source = "test_checkpoint " + coupling;
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = 0.5e-6;
+  s.reynolds0 = 0.5556;
+  s.coupling = coupling;
+  s.dt = coupling == "explicit" ? 1e-7 : 5e-7;
+  s.end = 60 * s.dt;
+  s.output_every = 4 * s.dt;
+  s.snapshots = {0.0, 30 * s.dt, 60 * s.dt};
+  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  if (coupling != "explicit" && cells == 2) s.cells.push_back({{14e-6, 6.5e-6}, 0.7, 0.3});
+  return s;
+}
+
+nlohmann::json summary_without_wall_time(const fs::path& dir) {
+  nlohmann::json j = nlohmann::json::parse(read_all(dir / "summary.json"));
+  j.erase("wall_seconds");
+  return j;
+}
+
+void expect_interrupted_equals_straight(const std::string& coupling, int cells) {
+  const Scene scene = two_cell_scene(coupling, cells);
+  const std::string tag = coupling + std::to_string(cells);
+  const fs::path straight = fs::temp_directory_path() / ("rbcflow_ckpt_straight_" + tag);
+  const fs::path stopped = fs::temp_directory_path() / ("rbcflow_ckpt_stopped_" + tag);
+  fs::remove_all(straight);
+  fs::remove_all(stopped);
+  const int threads = 2;
+  // Straight through, with checkpoints on the way (writing them must not change the run).
+  run_scene(scene, {.out_dir = straight.string(), .threads = threads, .progress = false, .checkpoint_sim = 10 * scene.dt});
+  // Stopped by SIGTERM after step 23 (between two rebuilds of the preconditioner blocks; not on a
+  // sample), with a checkpoint from step 10 and 20 already on disk ...
+  RunOptions o{.out_dir = stopped.string(), .threads = threads, .progress = false, .checkpoint_sim = 10 * scene.dt};
+  o.after_step = [](long step) {
+    if (step == 23) std::raise(SIGTERM);
+  };
+  const std::string message = error_of([&] { run_scene(scene, o); });
+  EXPECT_NE(message.find("interrupted by SIGTERM"), std::string::npos) << message;
+  EXPECT_NE(message.find("step 23"), std::string::npos) << message;
+  ASSERT_TRUE(fs::exists(stopped / "checkpoint.bin"));
+  EXPECT_FALSE(fs::exists(stopped / "summary.json"));
+  // ... then resumed to the end.
+  o.after_step = nullptr;
+  o.resume = true;
+  run_scene(scene, o);
+  EXPECT_EQ(read_all(stopped / "series.csv"), read_all(straight / "series.csv"));
+  EXPECT_EQ(read_all(stopped / "snapshots.dat"), read_all(straight / "snapshots.dat"));
+  EXPECT_EQ(summary_without_wall_time(stopped), summary_without_wall_time(straight));
+}
+
+TEST(Checkpoint, SemiImplicitTwoCellsInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("semi-implicit", 2);
+}
+
+TEST(Checkpoint, SemiImplicitOneCellInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("semi-implicit", 1);
+}
+
+TEST(Checkpoint, ExplicitOneCellInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("explicit", 1);
+}
+
+TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {
+  const Scene scene = two_cell_scene("explicit");
+  const fs::path straight = fs::temp_directory_path() / "rbcflow_ckpt_fallback_straight";
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_fallback";
+  fs::remove_all(straight);
+  fs::remove_all(dir);
+  run_scene(scene, {.out_dir = straight.string(), .threads = 1, .progress = false});
+  RunOptions o{.out_dir = dir.string(), .threads = 1, .progress = false, .checkpoint_sim = 10 * scene.dt};
+  o.after_step = [](long step) {
+    if (step == 35) std::raise(SIGINT);
+  };
+  EXPECT_THROW(run_scene(scene, o), RunInterrupted);
+  ASSERT_TRUE(fs::exists(dir / "checkpoint.bin.prev"));  // step 30
+  {
+    std::fstream f(dir / "checkpoint.bin", std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(100);
+    f.put('\x7f');
+  }
+  o.after_step = nullptr;
+  o.resume = true;
+  run_scene(scene, o);  // from step 30: the outputs are cut back to that step and continue
+  EXPECT_EQ(read_all(dir / "series.csv"), read_all(straight / "series.csv"));
+  EXPECT_EQ(summary_without_wall_time(dir), summary_without_wall_time(straight));
+}
+
+TEST(Checkpoint, ACheckpointOfAnotherSceneOrNoCheckpointIsRefused) {
+  Scene scene = two_cell_scene("explicit");
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_other_scene";
+  fs::remove_all(dir);
+  RunOptions o{.out_dir = dir.string(), .threads = 1, .progress = false};
+  o.resume = true;
+  EXPECT_NE(error_of([&] { run_scene(scene, o); }).find("no checkpoint to resume from"), std::string::npos);
+  o.resume = false;
+  o.after_step = [](long step) {
+    if (step == 5) std::raise(SIGTERM);
+  };
+  EXPECT_THROW(run_scene(scene, o), RunInterrupted);
+  o.after_step = nullptr;
+  o.resume = true;
+  scene.dt *= 0.5;
+  const std::string m = error_of([&] { run_scene(scene, o); });
+  EXPECT_NE(m.find("written for another scene"), std::string::npos) << m;
+  EXPECT_NE(m.find("dt = "), std::string::npos) << m;
+  // The scene stored in the checkpoint reads back as the scene that wrote it.
+  const Scene stored = checkpoint_scene(dir.string());
+  EXPECT_EQ(scene_to_toml(stored), scene_to_toml(two_cell_scene("explicit")));
+}
+
+}  // namespace
+}  // namespace rbc
