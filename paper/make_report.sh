@@ -11,7 +11,7 @@ mkdir -p "$report/figures"
 quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
 command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')"
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-dirty=$(git status --porcelain 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)
+dirty=$(git status --porcelain -- . ':!paper/report' 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)  # the report itself does not count
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 
 out="$report/README.md.tmp"
