@@ -14,6 +14,7 @@
 //
 // Disks and obstacles ([[disk]], [[obstacle]], SPEC section 8) need the fictitious-domain method,
 // which this version does not have yet; such scenes are refused with a clear message.
+#include <algorithm>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -55,7 +56,7 @@ struct Scene {
   // at 100 cells (Δt = 2e-6 s, 0.2 ms): 1e-3 and 1e-5 give Re within 3e-5 of each other, with 6
   // and 10 iterations per step.
   double coupling_tolerance = 1e-4;
-  double output_every = 0;  // s; 0 means end/100
+  double output_every = 0;  // s; 0 means end/100 (at least dt)
   bool vtk = false;
   std::vector<double> snapshots;  // s, sorted
   // Cells (empty: a cell-free channel).
@@ -70,7 +71,7 @@ struct Scene {
 
   double driving_force() const;  // f_p, N/m³, from whichever was given
   ChannelFlowParams flow_params() const;
-  double sample_interval() const { return output_every > 0 ? output_every : end / 100; }
+  double sample_interval() const { return output_every > 0 ? output_every : std::max(end / 100, dt); }
 };
 
 // Reads and validates a scene. overrides are "table.key=value" strings (value in TOML syntax;

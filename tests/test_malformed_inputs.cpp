@@ -1,0 +1,173 @@
+// Bad input never crashes (issue 5): a corpus of malformed scene files and command lines, each
+// fed to the rbcflow executable. Each must end with a non-zero exit code (2 for bad input; 105,
+// 106, 109 for command lines CLI11 refuses), one clear message naming what is wrong, and no crash, hang
+// or sanitizer report.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace rbc {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kChannel = R"([channel]
+length = 20e-6
+height = 10e-6
+mesh_size = 0.5e-6
+reynolds = 0.5556
+)";
+const std::string kTime = "[time]\ndt = 1e-7\nend = 1e-6\n";
+const std::string kGood = kChannel + kTime;
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto k = s.find(from);
+  if (k == std::string::npos) ADD_FAILURE() << "corpus entry: no '" << from << "' to replace";
+  return k == std::string::npos ? s : s.replace(k, from.size(), to);
+}
+std::string cell(const std::string& body) { return "[[cell]]\n" + body; }
+
+struct Outcome {
+  int exit_code;
+  std::string err;
+};
+
+// Runs rbcflow with args (the scene file, when given, is written to a temporary file first and
+// named by %s in args); 20 s limit so that a hang fails instead of stalling the suite.
+Outcome run(const std::string& args, const std::string* scene = nullptr, bool binary = false) {
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_malformed";
+  fs::create_directories(dir);
+  const fs::path scene_file = dir / "scene.toml", err_file = dir / "err.txt";
+  std::string a = args;
+  if (scene) {
+    std::ofstream(scene_file, binary ? std::ios::binary : std::ios::out) << *scene;
+    const auto k = a.find("%s");
+    if (k != std::string::npos) a.replace(k, 2, scene_file.string());
+  }
+  const std::string cmd = "timeout 20 " + std::string(RBCFLOW_BIN_DIR) + "/rbcflow " + a + " --quiet >/dev/null 2>" +
+                          err_file.string();
+  const int status = std::system(cmd.c_str());
+  std::ifstream f(err_file);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+}
+
+struct Case {
+  const char* name;
+  std::string scene;  // written to %s
+  std::string args;   // rbcflow command line
+  int exit_code;
+  std::vector<std::string> fragments;  // each must appear in the message
+};
+
+std::vector<Case> corpus() {
+  const std::string out = "--out " + (fs::temp_directory_path() / "rbcflow_malformed_out").string();
+  const std::string run = "run %s " + out;
+  const std::string cells = kGood;
+  std::vector<Case> c = {
+      // Files that are not scenes.
+      {"empty file", "", run, 2, {"missing required key"}},
+      {"binary file", std::string("\x7f" "ELF\x02\x01\x01\0\0\0", 10), run, 2, {"binary"}},
+      {"invalid TOML", "[channel\nlength = 1\n", run, 2, {"not valid TOML"}},
+      {"key outside any table", "length = 1e-6\n" + kGood, run, 2, {"'length'"}},
+      // Unknown names, with the nearest valid one.
+      {"unknown table", kGood + "[outptu]\nevery = 1e-7\n", run, 2, {"unknown table", "did you mean 'output'"}},
+      {"unknown key", replace(kGood, "mesh_size", "mesh_sise"), run, 2, {"mesh_sise", "did you mean 'mesh_size'"}},
+      {"unknown time key", replace(kGood, "dt =", "dtt ="), run, 2, {"did you mean 'dt'"}},
+      {"unknown cell key", kGood + cell("centre = [5e-6, 3e-6]\nswelling_ratio = 0.55\n"), run, 2, {"did you mean 'center'"}},
+      // Missing required keys.
+      {"missing length", replace(kGood, "length = 20e-6\n", ""), run, 2, {"[channel] length", "missing required key"}},
+      {"missing height", replace(kGood, "height = 10e-6\n", ""), run, 2, {"[channel] height", "missing required key"}},
+      {"missing mesh_size", replace(kGood, "mesh_size = 0.5e-6\n", ""), run, 2, {"[channel] mesh_size", "missing"}},
+      {"missing dt", replace(kGood, "dt = 1e-7\n", ""), run, 2, {"[time] dt", "missing"}},
+      {"missing end", replace(kGood, "end = 1e-6\n", ""), run, 2, {"[time] end", "missing"}},
+      {"missing driving force", replace(kGood, "reynolds = 0.5556\n", ""), run, 2, {"reynolds", "body_force"}},
+      {"missing cell center", kGood + cell("swelling_ratio = 0.55\n"), run, 2, {"[[cell]] 0", "center"}},
+      {"missing swelling ratio", kGood + cell("center = [5e-6, 3e-6]\n"), run, 2, {"swelling_ratio", "missing"}},
+      // Wrong types.
+      {"length is a string", replace(kGood, "length = 20e-6", "length = \"long\""), run, 2, {"[channel] length", "must be a number"}},
+      {"dt is a table", replace(kGood, "dt = 1e-7", "dt = {value = 1e-7}"), run, 2, {"[time] dt"}},
+      {"coupling is a number", kGood + "coupling = 3\n", run, 2, {"[time] coupling"}},
+      {"vtk is a number", kGood + "[output]\nvtk = 1\n", run, 2, {"[output] vtk", "true or false"}},
+      {"substeps not integer", kGood + "advection_substeps = 2.5\n", run, 2, {"[time] advection_substeps"}},
+      {"snapshots not a list", kGood + "[output]\nsnapshots = 0.5\n", run, 2, {"[output] snapshots"}},
+      {"center with one value", kGood + cell("center = [5e-6]\nswelling_ratio = 0.55\n"), run, 2, {"[[cell]] 0 center"}},
+      {"wall velocity with one value", replace(kGood, "reynolds = 0.5556", "reynolds = 0.5556\nwall_velocity = [1.0]"), run, 2,
+       {"[channel] wall_velocity"}},
+      // Values out of range.
+      {"negative length", replace(kGood, "length = 20e-6", "length = -20e-6"), run, 2, {"[channel] length", "out of range"}},
+      {"nan length", replace(kGood, "length = 20e-6", "length = nan"), run, 2, {"[channel] length", "out of range"}},
+      {"infinite height", replace(kGood, "height = 10e-6", "height = inf"), run, 2, {"[channel] height", "out of range"}},
+      {"zero dt", replace(kGood, "dt = 1e-7", "dt = 0.0"), run, 2, {"[time] dt", "out of range"}},
+      {"end shorter than dt", replace(kGood, "end = 1e-6", "end = 1e-8"), run, 2, {"[time] end", "at least one time step"}},
+      {"zero substeps", kGood + "advection_substeps = 0\n", run, 2, {"[time] advection_substeps", "out of range"}},
+      {"unknown coupling", kGood + "coupling = \"implicit\"\n", run, 2, {"[time] coupling", "semi-implicit"}},
+      {"misspelt preconditioner", kGood + "[solver]\npressure_preconditioner = \"shur\"\n", run, 2, {"did you mean 'schur'"}},
+      {"cg tolerance 1", kGood + "[solver]\ncg_tolerance = 1.0\n", run, 2, {"[solver] cg_tolerance", "out of range"}},
+      {"output every below dt", kGood + "[output]\nevery = 1e-9\n", run, 2, {"[output] every", "at least one time step"}},
+      {"three membrane nodes", kGood + "[membrane]\nnodes = 3\n", run, 2, {"[membrane] nodes", "out of range"}},
+      {"negative kl", kGood + "[membrane]\nkl = -5e-8\n", run, 2, {"[membrane] kl", "out of range"}},
+      {"unknown units", kGood + "[membrane]\nunits = \"mks\"\n", run, 2, {"[membrane] units", "si"}},
+      {"swelling ratio above 1", kGood + cell("center = [5e-6, 3e-6]\nswelling_ratio = 1.2\n"), run, 2, {"swelling_ratio", "out of range"}},
+      {"both reynolds and body force", replace(kGood, "reynolds = 0.5556", "reynolds = 0.5556\nbody_force = 3.0"), run, 2, {"not both"}},
+      {"mesh does not divide height", replace(kGood, "height = 10e-6", "height = 10.3e-6"), run, 2, {"[channel] mesh_size", "height"}},
+      {"dt above the advective bound", replace(kGood, "dt = 1e-7\nend = 1e-6", "dt = 5e-6\nend = 1e-4"), run, 2, {"[time] dt", "advective bound"}},
+      // Cells that cannot be placed; tables this version does not have.
+      {"cell outside the channel", kGood + cell("center = [5e-6, 0.5e-6]\nswelling_ratio = 0.55\n"), run, 2, {"outside the channel"}},
+      {"overlapping cells", kGood + cell("center = [5e-6, 3e-6]\nswelling_ratio = 0.55\n") + cell("center = [7e-6, 3.5e-6]\nswelling_ratio = 0.7\n"),
+       run, 2, {"[[cell]] 0 and 1", "overlap"}},
+      {"cells overlapping across x1 = L", kGood + cell("center = [1e-6, 5e-6]\nswelling_ratio = 0.55\n") + cell("center = [19.5e-6, 5e-6]\nswelling_ratio = 0.55\n"),
+       run, 2, {"overlap"}},
+      {"disk (not yet)", kGood + "[[disk]]\ncenter = [5e-6, 5e-6]\n", run, 2, {"[[disk]]", "fictitious-domain"}},
+      {"obstacle (not yet)", kGood + "[[obstacle]]\nkind = \"constriction\"\n", run, 2, {"[[obstacle]]", "fictitious-domain"}},
+      {"mobility table too large", replace(replace(kGood, "length = 20e-6", "length = 2e-3"), "height = 10e-6", "height = 0.5e-3") +
+                                       "coupling = \"semi-implicit\"\n" + cell("center = [5e-6, 5e-6]\nswelling_ratio = 0.55\n"),
+       run, 2, {"[time] coupling", "GiB"}},
+      // Command lines.
+      {"missing scene file", "", "run /nonexistent/scene.toml " + out, 2, {"cannot open the scene file"}},
+      {"scene path is a folder", "", "run /tmp " + out, 2, {"/tmp"}},
+      {"unknown option", kGood, run + " --frobnicate 3", 109, {"frobnicate"}},
+      {"no subcommand", "", "", 106, {"A subcommand is required"}},
+      {"unknown subcommand", "", "walk %s", 106, {"A subcommand is required"}},
+      {"threads out of range", kGood, run + " --threads 0", 105, {"--threads"}},
+      {"bad --set", kGood, run + " --set dt=1e-7", 2, {"expected table.key=value"}},
+      {"--set of an unknown key", kGood, run + " --set time.dtt=1e-7", 2, {"did you mean 'dt'"}},
+      {"negative checkpoint interval", kGood, run + " --checkpoint-wall -1", 105, {"--checkpoint-wall"}},
+      {"unwritable output folder", kGood, "run %s --out /proc/rbcflow-cannot-write", 2, {"/proc/rbcflow-cannot-write"}},
+      {"resume without checkpoint", "", "resume /tmp/rbcflow-no-such-run", 2, {"no checkpoint"}},
+      {"resume a folder with a damaged checkpoint", "", "resume " + (fs::temp_directory_path() / "rbcflow_malformed_damaged").string(), 2,
+       {"checksum mismatch"}},
+  };
+  return c;
+}
+
+TEST(MalformedInput, EveryCorpusEntryExitsNonZeroWithOneClearLine) {
+  // A folder whose only checkpoint is damaged, for the last entry.
+  const fs::path damaged = fs::temp_directory_path() / "rbcflow_malformed_damaged";
+  fs::create_directories(damaged);
+  const std::string garbage("RBCFLOW-CHECKPOINT\x01\0\0\0garbage-garbage-garbage", 45);
+  std::ofstream(damaged / "checkpoint.bin", std::ios::binary) << garbage;
+  const std::vector<Case> cases = corpus();
+  EXPECT_GE(cases.size(), 40u);
+  for (const Case& c : cases) {
+    const Outcome o = run(c.args, &c.scene, true);
+    EXPECT_EQ(o.exit_code, c.exit_code) << c.name << ": " << o.err;
+    ASSERT_FALSE(o.err.empty()) << c.name;
+    EXPECT_EQ(o.err.find("Sanitizer"), std::string::npos) << c.name << ": " << o.err;
+    EXPECT_EQ(o.err.find("terminate called"), std::string::npos) << c.name << ": " << o.err;
+    for (const std::string& f : c.fragments) EXPECT_NE(o.err.find(f), std::string::npos) << c.name << ": '" << f << "' in: " << o.err;
+    // One clear line for bad scenes and checkpoints (CLI11's own messages add a usage hint).
+    if (c.exit_code == 2) {
+      EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << c.name << ": one line: " << o.err;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rbc
