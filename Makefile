@@ -5,17 +5,20 @@
 
 BUILD      ?= build
 BUILD_SAN  ?= build-sanitize
+BUILD_FUZZ ?= build-fuzz
+FUZZ_SECONDS ?= 120
 JOBS       ?= $(shell nproc)
 QUICK      ?= 0
 REUSE      ?= 0    # 1: write the report from results/ already on disk (see paper/make_report.sh)
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
 EXPERIMENTS := channel_flow single_cell_migration stability_map
 
-.PHONY: all deps build test test-release test-sanitize reproduce bench clean
+.PHONY: all deps build test test-release test-sanitize reproduce bench fuzz clean
 
 all: build
 
@@ -42,6 +45,18 @@ test-sanitize: deps
 	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DRBCFLOW_SANITIZE=ON
 	cmake --build $(BUILD_SAN) -j $(JOBS) --target unit_tests rbcflow
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E Experiment
+
+# libFuzzer on the scene parser for FUZZ_SECONDS (clang, ASan + UBSan, its own build folder).
+# Inputs that crash or hang are written to $(BUILD_FUZZ)/crash-* / timeout-*; each one found goes
+# into tests/fuzz/regressions/ (replayed by the unit tests).
+fuzz:
+	@missing=""; for p in $(FUZZ_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; fi
+	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DRBCFLOW_FUZZ=ON
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_scene
+	mkdir -p $(BUILD_FUZZ)/corpus
+	$(BUILD_FUZZ)/bin/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
+	  -artifact_prefix=$(BUILD_FUZZ)/ $(BUILD_FUZZ)/corpus tests/fuzz/seeds tests/fuzz/regressions
 
 reproduce: build
 	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi

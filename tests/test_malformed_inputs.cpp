@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "scene/scene.hpp"
+
 namespace rbc {
 namespace {
 
@@ -126,9 +128,21 @@ std::vector<Case> corpus() {
        run, 2, {"overlap"}},
       {"disk (not yet)", kGood + "[[disk]]\ncenter = [5e-6, 5e-6]\n", run, 2, {"[[disk]]", "fictitious-domain"}},
       {"obstacle (not yet)", kGood + "[[obstacle]]\nkind = \"constriction\"\n", run, 2, {"[[obstacle]]", "fictitious-domain"}},
-      {"mobility table too large", replace(replace(kGood, "length = 20e-6", "length = 2e-3"), "height = 10e-6", "height = 0.5e-3") +
+      {"mobility table too large", replace(replace(kGood, "length = 20e-6", "length = 50e-6"), "height = 10e-6", "height = 1e-3") +
                                        "coupling = \"semi-implicit\"\n" + cell("center = [5e-6, 5e-6]\nswelling_ratio = 0.55\n"),
        run, 2, {"[time] coupling", "GiB"}},
+      // Found by hand while setting up make fuzz (also in tests/fuzz/regressions/): a cell count
+      // beyond int (was converted with undefined behaviour), a membrane whose preparation would
+      // take hours, a mesh of 2e8 nodes, values nested beyond TOML's limit.
+      {"cell count beyond int", replace(replace(replace(kGood, "length = 20e-6", "length = 1e300"), "height = 10e-6", "height = 1e300"),
+                                        "mesh_size = 0.5e-6", "mesh_size = 1e-300"),
+       run, 2, {"[channel] mesh_size", "at most 1e6 per direction"}},
+      {"100000 membrane nodes", kGood + "[membrane]\nnodes = 100000\n" + cell("center = [5e-6, 5e-6]\nswelling_ratio = 0.5\n"), run, 2,
+       {"[membrane] nodes", "out of range"}},
+      {"mesh of 2e8 nodes", replace(replace(kGood, "mesh_size = 0.5e-6", "mesh_size = 1e-9"), "dt = 1e-7\nend = 1e-6", "dt = 1e-12\nend = 1e-11"),
+       run, 2, {"[channel] mesh_size", "velocity nodes"}},
+      {"nesting beyond TOML's limit", "[output]\nsnapshots = " + std::string(5000, '[') + std::string(5000, ']') + "\n", run, 2,
+       {"not valid TOML", "nested"}},
       // Command lines.
       {"missing scene file", "", "run /nonexistent/scene.toml " + out, 2, {"cannot open the scene file"}},
       {"scene path is a folder", "", "run /tmp " + out, 2, {"/tmp"}},
@@ -167,6 +181,25 @@ TEST(MalformedInput, EveryCorpusEntryExitsNonZeroWithOneClearLine) {
       EXPECT_EQ(o.err.find('\n'), o.err.size() - 1) << c.name << ": one line: " << o.err;
     }
   }
+}
+
+TEST(MalformedInput, FuzzRegressionsParseOrFailWithAMessage) {
+  // Inputs make fuzz once broke the parser with (tests/fuzz/regressions/): each must now parse
+  // or end in a SceneError that says something.
+  int n = 0;
+  for (const auto& e : fs::directory_iterator(std::string(RBCFLOW_SOURCE_DIR) + "/tests/fuzz/regressions")) {
+    if (e.path().filename().string().rfind('.', 0) == 0) continue;
+    std::ifstream f(e.path(), std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    try {
+      (void)parse_scene(ss.str(), e.path().filename().string());
+    } catch (const SceneError& err) {
+      EXPECT_FALSE(std::string(err.what()).empty()) << e.path();
+    }
+    ++n;
+  }
+  std::printf("%d fuzz regression inputs replayed\n", n);
 }
 
 }  // namespace

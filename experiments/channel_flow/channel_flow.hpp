@@ -23,6 +23,7 @@ struct Params {
   bool quick = false;  // Δt raised to 80-96 % of the advective bound (the steady state is Δt-independent)
   int threads = 0;
   bool progress = true;
+  bool resume = false;  // a channel whose folder holds a checkpoint (SIGINT/SIGTERM) continues from it
 };
 
 struct ChannelResult {

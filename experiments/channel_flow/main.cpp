@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", p.quick, "short CI parameters");
   app.add_flag("--check", check, "compare with reference-data/channel_flow.csv; exit 1 on a failed row");
   app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+  app.add_flag("--resume", p.resume, "continue a channel stopped by SIGINT/SIGTERM from the checkpoint in its folder");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto res = rbc::channel_flow::run(p);
@@ -23,6 +24,9 @@ int main(int argc, char** argv) {
                   name.c_str(), r.summary.steps, r.summary.wall_seconds, r.profile_error, r.startup_error);
     if (!check) return 0;
     return rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout);
+  } catch (const rbc::RunInterrupted& e) {
+    std::fprintf(stderr, "channel_flow: %s; continue with the same command and --resume\n", e.what());
+    return 128 + e.signal;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "channel_flow: error: %s\n", e.what());
     return 2;

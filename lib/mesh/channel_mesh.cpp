@@ -10,6 +10,11 @@ namespace {
 // Number of cells n = extent / h, required to be an even integer (so that T_2h exists).
 int even_cell_count(double extent, double h, const char* what) {
   const double n = extent / h;
+  if (!(n <= 1e6)) {  // also keeps the count within int
+    std::ostringstream s;
+    s << "channel " << what << "/h = " << n << " cells; at most 1e6 per direction";
+    throw std::invalid_argument(s.str());
+  }
   const double rounded = std::round(n);
   if (std::abs(n - rounded) > 1e-9 * std::max(1.0, n)) {
     std::ostringstream s;

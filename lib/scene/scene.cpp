@@ -312,7 +312,8 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
   s.snapshots = r.list("output", "snapshots", "s");
 
-  s.membrane_nodes = int(r.integer("membrane", "nodes", 8, 100000, s.membrane_nodes));
+  // Preparing a shape costs ≈ N³ (≈ 20 s at N = 300): larger N would look like a hang.
+  s.membrane_nodes = int(r.integer("membrane", "nodes", 8, kMaxMembraneNodes, s.membrane_nodes));
   s.membrane_radius = r.number("membrane", "radius", "m", 0, big, true, s.membrane_radius);
   s.membrane_constants.kl = r.number("membrane", "kl", "(study's units, N m)", 0, big, true, s.membrane_constants.kl);
   s.membrane_constants.kb = r.number("membrane", "kb", "(study's units, N m)", 0, big, false, s.membrane_constants.kb);
@@ -338,7 +339,13 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
 
   // The mesh must fit the channel (T_2h must exist): ChannelMesh says which side does not fit.
   try {
-    (void)ChannelMesh::make(s.length, s.height, s.mesh_size);
+    const ChannelMesh m = ChannelMesh::make(s.length, s.height, s.mesh_size);
+    if (double(m.nx) * (m.ny + 1) > kMaxVelocityNodes) {
+      std::ostringstream msg;
+      msg << "gives " << m.nx << " x " << m.ny + 1 << " velocity nodes, more than the " << kMaxVelocityNodes
+          << " this version accepts (the study's largest mesh has 320 x 161)";
+      r.fail("[channel] mesh_size", msg.str());
+    }
   } catch (const std::invalid_argument& e) {
     r.fail("[channel] mesh_size", e.what());
   }

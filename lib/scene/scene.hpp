@@ -27,6 +27,10 @@ namespace rbc {
 
 // Largest mobility table the semi-implicit coupling may allocate (step_mobility.hpp), GiB.
 inline constexpr double kMaxMobilityTableGiB = 8.0;
+// Largest mesh (velocity nodes; ≈ 1 KB of fields and solver factors per node) and membrane
+// (nodes per cell; preparing a shape costs ≈ N³) a scene may ask for.
+inline constexpr double kMaxVelocityNodes = 4e6;
+inline constexpr int kMaxMembraneNodes = 400;
 
 // Bad input: the message names the file, the key and what is allowed.
 struct SceneError : std::runtime_error {
