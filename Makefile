@@ -56,7 +56,7 @@ fuzz:
 	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_scene
 	mkdir -p $(BUILD_FUZZ)/corpus
 	$(BUILD_FUZZ)/bin/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
-	  -artifact_prefix=$(BUILD_FUZZ)/ $(BUILD_FUZZ)/corpus tests/fuzz/seeds tests/fuzz/regressions
+	  -artifact_prefix=$(BUILD_FUZZ)/ $(BUILD_FUZZ)/corpus tests/fuzz/seeds paper/method/scenes experiments/channel_flow tests/fuzz/regressions
 
 reproduce: build
 	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi
