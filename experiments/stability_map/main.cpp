@@ -18,11 +18,14 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", quick, "a small map (h = 0.5, 0.25 um; three stiffnesses)");
   app.add_flag("--check", check, "exit 1 if an extreme case stopped (the study publishes no numbers for this map)");
   app.add_flag("--reuse", p_reuse, "read a finished map from the output folder instead of recomputing it");
+  bool p_resume = false;
+  app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the points already written, compute the rest");
   app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
   CLI11_PARSE(app, argc, argv);
   sm::Params p = quick ? sm::Params::quick_params() : sm::Params{};
   if (!out.empty()) p.out_dir = out;
   p.reuse = p_reuse;
+  p.resume = p_resume;
   if (threads > 0) omp_set_num_threads(threads);
   try {
     const sm::Results r = sm::run(p);

@@ -193,10 +193,9 @@ std::vector<std::string> split_csv(const std::string& line) {
   return out;
 }
 
-// A finished map in out_dir (both CSV files), read back for the tables; false if absent.
-bool read_finished(const std::string& dir, Results& res) {
-  std::ifstream a(dir + "/stability_map.csv"), b(dir + "/extremes.csv");
-  if (!a || !b) return false;
+// The points of stability_map.csv in dir (rows written so far); false if a row is unreadable.
+bool read_points(const std::string& dir, Results& res) {
+  std::ifstream a(dir + "/stability_map.csv");
   std::string line;
   std::getline(a, line);
   while (std::getline(a, line)) {
@@ -214,6 +213,14 @@ bool read_finished(const std::string& dir, Results& res) {
     pt.trials = std::stoi(f[8]);
     res.points.push_back(pt);
   }
+  return true;
+}
+
+// A finished map in out_dir (both CSV files), read back for the tables; false if absent.
+bool read_finished(const std::string& dir, Results& res) {
+  std::ifstream b(dir + "/extremes.csv");
+  if (!std::filesystem::exists(dir + "/stability_map.csv") || !b || !read_points(dir, res)) return false;
+  std::string line;
   std::getline(b, line);
   while (std::getline(b, line)) {
     const auto f = split_csv(line);
@@ -241,8 +248,17 @@ Results run(const Params& p) {
     write_tables(p, res);
     return res;
   }
-  std::ofstream csv(p.out_dir + "/stability_map.csv");
-  csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
+  // --resume: the points already in stability_map.csv (each row is flushed when its bisection
+  // ends, so a stopped map loses at most the point in progress) are kept and not recomputed.
+  Results done;
+  const bool resume = p.resume && std::filesystem::exists(p.out_dir + "/stability_map.csv") && read_points(p.out_dir, done);
+  std::ofstream csv(p.out_dir + "/stability_map.csv", resume ? std::ios::app : std::ios::trunc);
+  if (!resume) csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
+  auto already = [&](const std::string& c, double h, double kl, double kb) -> const Point* {
+    for (const Point& q : done.points)
+      if (q.coupling == c && std::abs(q.h - h) < 1e-6 * h && q.kl_scale == kl && q.kb_scale == kb) return &q;
+    return nullptr;
+  };
   auto record = [&](const Point& pt) {
     res.points.push_back(pt);
     csv << pt.coupling << "," << pt.h * 1e6 << "," << pt.kl_scale << "," << pt.kb_scale << "," << pt.stable << ","
@@ -255,8 +271,14 @@ Results run(const Params& p) {
   };
   for (const std::string& c : p.couplings)
     for (double h : p.mesh_sizes) {
-      for (double kl : p.kl_scales) record(bisect(p, c, h, kl, 1));
-      for (double kb : p.kb_scales) record(bisect(p, c, h, 1, kb));
+      for (double kl : p.kl_scales) {
+        if (const Point* q = already(c, h, kl, 1)) res.points.push_back(*q);
+        else record(bisect(p, c, h, kl, 1));
+      }
+      for (double kb : p.kb_scales) {
+        if (const Point* q = already(c, h, 1, kb)) res.points.push_back(*q);
+        else record(bisect(p, c, h, 1, kb));
+      }
     }
   res.extremes = extremes(p);
   std::ofstream ex(p.out_dir + "/extremes.csv");

@@ -30,6 +30,7 @@ struct Params {
   double ratio = 1.15;        // bisection ends when unstable/stable < ratio
   int max_substeps = 4;       // Q at the cap
   bool reuse = false;         // read a finished map from out_dir instead of recomputing it
+  bool resume = false;        // keep the points a stopped map already wrote, compute the rest
   static Params quick_params();  // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
 };
 
