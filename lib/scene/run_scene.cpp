@@ -302,6 +302,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   };
   double last_checkpoint_wall = 0;
   bool have_checkpoint = opt.resume;
+  double checkpoint_time = sim.time();  // of the newest checkpoint (resume: the one read)
   try {
     while (sim.steps() < total) {
       const double t_before = sim.time();
@@ -328,13 +329,15 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
         checkpoint();
         last_checkpoint_wall = wall;
         have_checkpoint = true;
+        checkpoint_time = sim.time();
       }
     }
   } catch (const RunFailure& e) {
     // The last checkpoint (if any) is the last good state: say where it is.
     if (!have_checkpoint) throw;
-    throw RunFailure(std::string(e.what()) + "; the last good state is in " + (out / "checkpoint.bin").string() +
-                     " (resume with a smaller dt is not possible: the checkpoint belongs to this scene)");
+    std::ostringstream m;
+    m << e.what() << "; the last good state (t = " << checkpoint_time << " s) is in " << (out / "checkpoint.bin").string();
+    throw RunFailure(m.str());
   }
   progress.finish(sim.steps(), sim.time());
 
