@@ -1,7 +1,8 @@
 // rbcflow — the generic scene runner (SPEC section 8).
 //   build/bin/rbcflow run SCENE.toml --out DIR [--threads N] [--set key=value ...]
 //   build/bin/rbcflow resume DIR [--threads N]     (continue from DIR/checkpoint.bin to the end)
-// Exit codes: 0 done; 1 internal error; 2 bad input (scene, command line, checkpoint); 3 the run
+// Exit codes: 0 done; 1 internal error; 2 bad input (scene, scene file, checkpoint, output folder);
+// 105/106/109 a command line CLI11 refuses (bad value, no command, unknown option); 3 the run
 // went unstable (last good checkpoint kept); 128 + signal when stopped by SIGINT/SIGTERM
 // (checkpoint written).
 #include <cstdio>
@@ -13,6 +14,10 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"rbcflow: red blood cells in Poiseuille flows (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455)"};
+  // Command-line errors in one line, like the other errors (set before the subcommands copy it).
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return "rbcflow: error: " + std::string(e.what()) + " (see rbcflow --help)\n";
+  });
   app.require_subcommand(1);
   std::string scene_path, out_dir, resume_dir;
   int threads = 0;
@@ -33,6 +38,10 @@ int main(int argc, char** argv) {
     sub->add_option("--checkpoint-sim", checkpoint_sim, "seconds of simulated time between checkpoints (0: none)")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str();
     sub->add_flag("--quiet", quiet, "no progress line");
+  }
+  if (argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "run" && std::string(argv[1]) != "resume") {
+    std::fprintf(stderr, "rbcflow: error: unknown command '%s' (commands: run, resume; see rbcflow --help)\n", argv[1]);
+    return 106;  // CLI11's code for a missing subcommand
   }
   CLI11_PARSE(app, argc, argv);
 
