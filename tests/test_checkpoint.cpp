@@ -165,7 +165,7 @@ TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {
   EXPECT_EQ(summary_without_wall_time(dir), summary_without_wall_time(straight));
 }
 
-TEST(Checkpoint, ACheckpointOfAnotherSceneOrNoCheckpointIsRefused) {
+TEST(Checkpoint, ACheckpointOfAnotherSceneOrVersionOrNoCheckpointIsRefused) {
   Scene scene = two_cell_scene("explicit");
   const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_other_scene";
   fs::remove_all(dir);
@@ -184,8 +184,23 @@ TEST(Checkpoint, ACheckpointOfAnotherSceneOrNoCheckpointIsRefused) {
   EXPECT_NE(m.find("written for another scene"), std::string::npos) << m;
   EXPECT_NE(m.find("dt = "), std::string::npos) << m;
   // The scene stored in the checkpoint reads back as the scene that wrote it.
-  const Scene stored = checkpoint_scene(dir.string());
-  EXPECT_EQ(scene_to_toml(stored), scene_to_toml(two_cell_scene("explicit")));
+  EXPECT_EQ(scene_to_toml(checkpoint_scene(dir.string())), scene_to_toml(two_cell_scene("explicit")));
+  // A checkpoint of another version (its version record changed, checksum made valid again).
+  scene.dt *= 2.0;
+  {
+    std::string bytes = read_all(dir / "checkpoint.bin");
+    const std::string version = RBCFLOW_VERSION;
+    const auto k = bytes.find(version);
+    ASSERT_NE(k, std::string::npos);
+    bytes.replace(k, version.size(), std::string(version.size(), '9'));
+    const std::size_t body = bytes.size() - sizeof(std::uint64_t);
+    const std::uint64_t sum = fnv1a64(reinterpret_cast<const unsigned char*>(bytes.data()), body);
+    bytes.replace(body, sizeof sum, std::string(reinterpret_cast<const char*>(&sum), sizeof sum));
+    std::ofstream(dir / "checkpoint.bin", std::ios::binary | std::ios::trunc) << bytes;
+  }
+  const std::string v = error_of([&] { run_scene(scene, o); });
+  EXPECT_NE(v.find("written by rbcflow " + std::string(std::string(RBCFLOW_VERSION).size(), '9')), std::string::npos) << v;
+  EXPECT_THROW(checkpoint_scene(dir.string()), CheckpointError);  // rbcflow resume: refused too
 }
 
 TEST(Checkpoint, AnUnstableRunStopsNamingTheCauseAndKeepsItsLastGoodCheckpoint) {
