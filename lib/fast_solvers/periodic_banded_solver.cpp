@@ -11,6 +11,8 @@
 namespace rbc {
 
 namespace {
+// Smallest grid (nx × rows) whose solve is shared between threads.
+constexpr std::size_t kParallelSize = 16384;
 // FFTW's planner is not thread-safe (its execution is): plans are made and destroyed under a lock,
 // so that independent simulations may be built on different threads.
 std::mutex& fftw_planner_lock() {
@@ -102,7 +104,8 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
   double* s = &spec_[0][0];
   const int w = 2 * band_ + 1;
   const double scale = 1.0 / nx_;
-#pragma omp parallel if (!omp_in_parallel())
+  // Threads only pay on large grids (the wide channel: 320 x 159); small ones stay serial.
+#pragma omp parallel if (!omp_in_parallel() && size >= kParallelSize)
   {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
     // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec_[j * nk_ + k].
