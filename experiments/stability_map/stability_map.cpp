@@ -254,11 +254,7 @@ Results run(const Params& p) {
   const bool resume = p.resume && std::filesystem::exists(p.out_dir + "/stability_map.csv") && read_points(p.out_dir, done);
   std::ofstream csv(p.out_dir + "/stability_map.csv", resume ? std::ios::app : std::ios::trunc);
   if (!resume) csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
-  auto already = [&](const std::string& c, double h, double kl, double kb) -> const Point* {
-    for (const Point& q : done.points)
-      if (q.coupling == c && std::abs(q.h - h) < 1e-6 * h && q.kl_scale == kl && q.kb_scale == kb) return &q;
-    return nullptr;
-  };
+
   auto record = [&](const Point& pt) {
     res.points.push_back(pt);
     csv << pt.coupling << "," << pt.h * 1e6 << "," << pt.kl_scale << "," << pt.kb_scale << "," << pt.stable << ","
@@ -269,16 +265,16 @@ Results run(const Params& p) {
                   pt.kl_scale, pt.kb_scale, pt.stable, pt.unstable > 0 ? (std::to_string(pt.unstable) + " s, " + pt.cause).c_str() : ">= cap",
                   pt.trials);
   };
+  // One point: from the rows already written (--resume), else bisected and recorded.
+  auto point = [&](const std::string& c, double h, double kl, double kb) {
+    for (const Point& q : done.points)
+      if (q.coupling == c && std::abs(q.h - h) < 1e-6 * h && q.kl_scale == kl && q.kb_scale == kb) return res.points.push_back(q);
+    record(bisect(p, c, h, kl, kb));
+  };
   for (const std::string& c : p.couplings)
     for (double h : p.mesh_sizes) {
-      for (double kl : p.kl_scales) {
-        if (const Point* q = already(c, h, kl, 1)) res.points.push_back(*q);
-        else record(bisect(p, c, h, kl, 1));
-      }
-      for (double kb : p.kb_scales) {
-        if (const Point* q = already(c, h, 1, kb)) res.points.push_back(*q);
-        else record(bisect(p, c, h, 1, kb));
-      }
+      for (double kl : p.kl_scales) point(c, h, kl, 1);
+      for (double kb : p.kb_scales) point(c, h, 1, kb);
     }
   res.extremes = extremes(p);
   std::ofstream ex(p.out_dir + "/extremes.csv");

@@ -5,6 +5,7 @@
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include <omp.h>
 
@@ -104,6 +105,8 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
   double* s = &spec_[0][0];
   const int w = 2 * band_ + 1;
   const double scale = 1.0 / nx_;
+  // Values [first, last) of row half h.
+  auto half = [&](int h) { return std::pair<std::size_t, std::size_t>(h == 0 ? 0 : std::size_t(half_) * nx_, h == 0 ? std::size_t(half_) * nx_ : size); };
   // Threads only pay on large grids (the wide channel: 320 x 159); small ones stay serial.
 #pragma omp parallel if (!omp_in_parallel() && size >= kParallelSize)
   {
@@ -112,7 +115,7 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
 #pragma omp for schedule(static)
     for (int h = 0; h < 2; ++h) {
       if (!forward_[h]) continue;
-      const std::size_t first = std::size_t(h == 0 ? 0 : half_) * nx_, last = h == 0 ? std::size_t(half_) * nx_ : size;
+      const auto [first, last] = half(h);
       std::memcpy(real_ + first, b + first, sizeof(double) * (last - first));
       fftw_execute(forward_[h]);
     }
@@ -149,7 +152,7 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
     for (int h = 0; h < 2; ++h) {
       if (!backward_[h]) continue;
       fftw_execute(backward_[h]);
-      const std::size_t first = std::size_t(h == 0 ? 0 : half_) * nx_, last = h == 0 ? std::size_t(half_) * nx_ : size;
+      const auto [first, last] = half(h);
       for (std::size_t i = first; i < last; ++i) x[i] = real_[i] * scale;
     }
   }

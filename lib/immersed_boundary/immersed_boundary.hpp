@@ -11,12 +11,12 @@
 // prescribed, so no force can act there). Spreading and interpolation use the same weights at the
 // same positions, so with zero wall velocity they are adjoint in the lumped inner product:
 // Σ_n h² (S F)_n · u_n = Σ_i F_i · (J u)_i.
+#include <vector>
+
 #include "mesh/channel_mesh.hpp"
 #include "membrane/spring_membrane.hpp"
 
 namespace rbc {
-
-#include <vector>
 
 // The 4 × 4 stencil of one node: first column and row, and the weights φ in each
 // direction. Computing it is most of the cost of a transfer; a solver that spreads and

@@ -23,7 +23,6 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
       work_(flow.mesh()),
-      work_force_(flow.mesh()),
       work_pressure_(flow.mesh().pressure_nodes(), 0.0) {}
 
 namespace {
@@ -58,8 +57,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
       spread_forces(mesh_, stencils_[c], as_points(kv, 0, int(cells[c].nodes.size())), f);
     }
   }
-  VelocityField& f = work_force_;
-  f = thread_force_[0];
+  VelocityField& f = thread_force_[0];  // the sum, in thread order
   for (int t = 1; t < threads; ++t)
     for (std::size_t k = 0; k < f.u1.size(); ++k) {
       f.u1[k] += thread_force_[t].u1[k];
@@ -214,45 +212,34 @@ void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target
   blocks_[c].lu.compute(B);
 }
 
-namespace {
-std::vector<double> flatten(const Eigen::VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-Eigen::VectorXd unflatten(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())); }
-}  // namespace
-
 void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
   w.put(pressure_);
-  w.put(flatten(last_U_));
-  w.put(flatten(before_last_U_));
+  w.put(last_U_);
+  w.put(before_last_U_);
   w.put(std::int64_t(steps_since_rebuild_));
   w.put(std::int64_t(last_iterations_));
   w.put(std::int64_t(block_nodes_.size()));
-  for (const Points& r : block_nodes_) {
-    std::vector<double> flat(2 * r.size());
-    for (std::size_t i = 0; i < r.size(); ++i) { flat[2 * i] = r[i].x(); flat[2 * i + 1] = r[i].y(); }
-    w.put(flat);
-  }
+  for (const Points& r : block_nodes_) w.put(r);
 }
 
 void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>& cells) {
   pressure_ = r.get_doubles(pressure_.size(), "the semi-implicit predictor's pressure");
   std::size_t unknowns = 0;
   for (const Cell& c : cells) unknowns += 2 * c.nodes.size();
-  const std::vector<double> U = r.get_doubles(), U1 = r.get_doubles();
-  for (const std::vector<double>* v : {&U, &U1})
-    if (!v->empty() && v->size() != unknowns) throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
-  last_U_ = unflatten(U);
-  before_last_U_ = unflatten(U1);
+  last_U_ = r.get_vector();
+  before_last_U_ = r.get_vector();
+  for (const Eigen::VectorXd* v : {&last_U_, &before_last_U_})
+    if (v->size() != 0 && std::size_t(v->size()) != unknowns)
+      throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
   steps_since_rebuild_ = int(r.get_int());
   last_iterations_ = int(r.get_int());
   const std::int64_t nblocks = r.get_int();
   if (nblocks != 0 && nblocks != std::int64_t(cells.size()))
     throw CheckpointError(r.path() + ": preconditioner blocks for " + std::to_string(nblocks) + " cells, the scene has " +
                           std::to_string(cells.size()));
-  block_nodes_.assign(std::size_t(nblocks), Points());
-  for (std::size_t c = 0; c < block_nodes_.size(); ++c) {
-    const std::vector<double> flat = r.get_doubles(2 * cells[c].nodes.size(), "the nodes of a preconditioner block");
-    for (std::size_t i = 0; i < flat.size() / 2; ++i) block_nodes_[c].push_back(Eigen::Vector2d(flat[2 * i], flat[2 * i + 1]));
-  }
+  block_nodes_.resize(std::size_t(nblocks));
+  for (std::size_t c = 0; c < block_nodes_.size(); ++c)
+    block_nodes_[c] = r.get_points(cells[c].nodes.size(), "the nodes of a preconditioner block");
   // The blocks as the uninterrupted run has them (built from the same nodes the same way).
   blocks_.resize(block_nodes_.size());
 #pragma omp parallel for schedule(dynamic)

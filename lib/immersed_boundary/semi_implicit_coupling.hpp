@@ -89,8 +89,8 @@ class SemiImplicitMembraneStep {
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
   std::vector<std::vector<NodeStencil>> stencils_;  // each cell's transfer stencils at r^{n+1}
-  VelocityField work_, work_force_;  // GMRES matrix-vector product: velocity and force fields
-  std::vector<VelocityField> thread_force_;  // one force field per thread (spreading in parallel)
+  VelocityField work_;                        // GMRES matrix-vector product: the velocity
+  std::vector<VelocityField> thread_force_;  // its force, one field per thread (spreading in parallel)
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   std::vector<double> work_pressure_;
   int last_iterations_ = 0;

@@ -37,6 +37,16 @@ void CheckpointWriter::put(const std::vector<double>& v) {
   raw(v.data(), v.size() * sizeof(double));
 }
 
+void CheckpointWriter::put(const Eigen::VectorXd& v) {
+  put(std::int64_t(v.size()));
+  raw(v.data(), std::size_t(v.size()) * sizeof(double));
+}
+
+void CheckpointWriter::put(const std::vector<Eigen::Vector2d>& points) {
+  put(std::int64_t(2 * points.size()));
+  for (const Eigen::Vector2d& p : points) raw(p.data(), 2 * sizeof(double));
+}
+
 void CheckpointWriter::commit(const std::string& path) const {
   namespace fs = std::filesystem;
   std::vector<unsigned char> file(kMagic, kMagic + kMagicSize);
@@ -120,6 +130,18 @@ std::vector<double> CheckpointReader::get_doubles(std::size_t n, const char* wha
     throw CheckpointError(path_ + ": " + what + " has " + std::to_string(v.size()) + " values, this scene needs " +
                           std::to_string(n));
   return v;
+}
+
+Eigen::VectorXd CheckpointReader::get_vector() {
+  const std::vector<double> v = get_doubles();
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
+}
+
+std::vector<Eigen::Vector2d> CheckpointReader::get_points(std::size_t n, const char* what) {
+  const std::vector<double> v = get_doubles(2 * n, what);
+  std::vector<Eigen::Vector2d> points(n);
+  for (std::size_t i = 0; i < n; ++i) points[i] = Eigen::Vector2d(v[2 * i], v[2 * i + 1]);
+  return points;
 }
 
 }  // namespace rbc

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace rbc {
 
 struct CheckpointError : std::runtime_error {
@@ -29,6 +31,8 @@ class CheckpointWriter {
   void put(std::int64_t v) { raw(&v, sizeof v); }
   void put(const std::string& s);
   void put(const std::vector<double>& v);
+  void put(const Eigen::VectorXd& v);
+  void put(const std::vector<Eigen::Vector2d>& points);  // membrane nodes (x, y pairs)
   // Writes the file as described above; throws CheckpointError if it cannot.
   void commit(const std::string& path) const;
 
@@ -46,6 +50,8 @@ class CheckpointReader {
   std::vector<double> get_doubles();
   // A vector that must have exactly n values (a field of this mesh, the nodes of this cell).
   std::vector<double> get_doubles(std::size_t n, const char* what);
+  Eigen::VectorXd get_vector();
+  std::vector<Eigen::Vector2d> get_points(std::size_t n, const char* what);  // exactly n nodes
   const std::string& path() const { return path_; }
   bool at_end() const { return pos_ == end_; }
 

@@ -100,6 +100,29 @@ struct RunState {
   double last_mean = 0;
   std::int64_t next_snapshot = 0, vtk_count = 0;
   double wall_seconds = 0;  // spent before this session
+
+  void save(CheckpointWriter& w) const {
+    w.put(series_bytes);
+    w.put(snapshot_bytes);
+    w.put(u_sum);
+    w.put(u_count);
+    w.put(last_mean);
+    w.put(next_snapshot);
+    w.put(vtk_count);
+    w.put(wall_seconds);
+  }
+  static RunState load(CheckpointReader& r) {
+    RunState s;
+    s.series_bytes = r.get_int();
+    s.snapshot_bytes = r.get_int();
+    s.u_sum = r.get_double();
+    s.u_count = r.get_int();
+    s.last_mean = r.get_double();
+    s.next_snapshot = r.get_int();
+    s.vtk_count = r.get_int();
+    s.wall_seconds = r.get_double();
+    return s;
+  }
 };
 
 // The scene's TOML without comment lines (the first names where the scene was read from).
@@ -117,9 +140,13 @@ struct CheckpointHeader {
   std::int64_t threads = 0;
 };
 
+// Reads the header; a checkpoint of another version is refused.
 CheckpointHeader read_header(CheckpointReader& r) {
   CheckpointHeader h;
   h.version = r.get_string();
+  if (h.version != RBCFLOW_VERSION)
+    throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
+                          "; rerun the scene from the start");
   h.source = r.get_string();
   h.scene_toml = r.get_string();
   h.threads = r.get_int();
@@ -152,14 +179,7 @@ void write_checkpoint(const fs::path& dir, const Scene& scene, const Simulation&
   w.put(scene_to_toml(scene));
   w.put(std::int64_t(omp_get_max_threads()));
   sim.save(w);
-  w.put(st.series_bytes);
-  w.put(st.snapshot_bytes);
-  w.put(st.u_sum);
-  w.put(st.u_count);
-  w.put(st.last_mean);
-  w.put(st.next_snapshot);
-  w.put(st.vtk_count);
-  w.put(st.wall_seconds);
+  st.save(w);
   w.commit((dir / "checkpoint.bin").string());
 }
 
@@ -168,9 +188,6 @@ void write_checkpoint(const fs::path& dir, const Scene& scene, const Simulation&
 Scene checkpoint_scene(const std::string& dir) {
   CheckpointReader r = open_checkpoint(dir);
   const CheckpointHeader h = read_header(r);
-  if (h.version != RBCFLOW_VERSION)
-    throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
-                          "; rerun the scene from the start");
   try {
     Scene s = parse_scene(h.scene_toml, r.path() + " (its scene)");
     s.source = h.source;
@@ -200,9 +217,6 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (opt.resume) {
     CheckpointReader r = open_checkpoint(out);
     const CheckpointHeader h = read_header(r);
-    if (h.version != RBCFLOW_VERSION)
-      throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
-                            "; rerun the scene from the start");
     const std::vector<std::string> a = scene_lines(h.scene_toml), b = scene_lines(scene_to_toml(scene));
     if (a != b) {
       std::size_t k = 0;
@@ -212,16 +226,9 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     }
     if (h.threads != omp_get_max_threads() && opt.progress)
       std::fprintf(stderr, "rbcflow: note: the checkpoint was written with %lld threads, this run has %d: the results "
-                   "differ from an uninterrupted run at round-off level\n", (long long)h.threads, omp_get_max_threads());
+                   "may differ from an uninterrupted run at round-off level\n", (long long)h.threads, omp_get_max_threads());
     sim.load(r);
-    resumed.series_bytes = r.get_int();
-    resumed.snapshot_bytes = r.get_int();
-    resumed.u_sum = r.get_double();
-    resumed.u_count = r.get_int();
-    resumed.last_mean = r.get_double();
-    resumed.next_snapshot = r.get_int();
-    resumed.vtk_count = r.get_int();
-    resumed.wall_seconds = r.get_double();
+    resumed = RunState::load(r);
     if (!r.at_end()) throw CheckpointError(r.path() + ": unexpected data after the run state (written by another version?)");
     // The outputs as they were at the checkpoint.
     for (const auto& [name, bytes] : {std::pair{"series.csv", resumed.series_bytes}, std::pair{"snapshots.dat", resumed.snapshot_bytes}}) {

@@ -307,7 +307,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);
   s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
-  s.output_every = r.number("output", "every", "s", 0, big, true, std::max(s.end / 100, s.dt));  // default: 100 samples, at most one per step
+  s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
   s.snapshots = r.list("output", "snapshots", "s");
@@ -416,7 +416,7 @@ std::string toml_number(double v) {
 
 std::string scene_to_toml(const Scene& s) {
   std::ostringstream o;
-  auto num = [](double v) { return toml_number(v); };
+  const auto num = toml_number;
   o << "# written by rbcflow " << RBCFLOW_VERSION << " from " << s.source << "\n";
   o << "[fluid]\ndensity = " << num(s.fluid.density) << "\nviscosity = " << num(s.fluid.viscosity) << "\n";
   o << "[channel]\nlength = " << num(s.length) << "\nheight = " << num(s.height) << "\nmesh_size = " << num(s.mesh_size) << "\n";

@@ -75,6 +75,7 @@ struct Scene {
 
   double driving_force() const;  // f_p, N/m³, from whichever was given
   ChannelFlowParams flow_params() const;
+  // s between samples; by default 100 samples, at most one per step.
   double sample_interval() const { return output_every > 0 ? output_every : std::max(end / 100, dt); }
 };
 

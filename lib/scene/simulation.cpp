@@ -79,11 +79,7 @@ void Simulation::save(CheckpointWriter& w) const {
   w.put(std::int64_t(last_projection_.iterations));
   w.put(last_projection_.residual);
   w.put(std::int64_t(cells_.size()));
-  for (const Cell& c : cells_) {
-    std::vector<double> flat(2 * c.nodes.size());
-    for (std::size_t i = 0; i < c.nodes.size(); ++i) { flat[2 * i] = c.nodes[i].x(); flat[2 * i + 1] = c.nodes[i].y(); }
-    w.put(flat);
-  }
+  for (const Cell& c : cells_) w.put(c.nodes);
   if (semi_implicit_step_) semi_implicit_step_->save(w);
 }
 
@@ -94,10 +90,7 @@ void Simulation::load(CheckpointReader& r) {
   const std::int64_t n = r.get_int();
   if (n != std::int64_t(cells_.size()))
     throw CheckpointError(r.path() + ": holds " + std::to_string(n) + " cells, the scene has " + std::to_string(cells_.size()));
-  for (Cell& c : cells_) {
-    const std::vector<double> flat = r.get_doubles(2 * c.nodes.size(), "the membrane nodes of a cell");
-    for (std::size_t i = 0; i < c.nodes.size(); ++i) c.nodes[i] = Eigen::Vector2d(flat[2 * i], flat[2 * i + 1]);
-  }
+  for (Cell& c : cells_) c.nodes = r.get_points(c.nodes.size(), "the membrane nodes of a cell");
   if (semi_implicit_step_) semi_implicit_step_->load(r, cells_);
 }
 
