@@ -51,9 +51,14 @@ class ChannelFlow {
   // Step 4: implicit diffusion with the body force and an optional force field (u^{n+1});
   // advances the clock.
   void diffuse(const VelocityField* force_field = nullptr);
-  // After step 4: adds its response to an extra force density (N/m³) — the linearly implicit
+  // After step 4: adds a velocity change (m/s) — step 4's response to the linearly implicit
   // membrane force of the semi-implicit coupling. Does not advance the clock.
-  void add_force_response(const VelocityField& force_field) { diffusion_.add_force_response(u_, force_field); }
+  void add_velocity(const VelocityField& du) {
+    for (std::size_t k = 0; k < u_.u1.size(); ++k) {
+      u_.u1[k] += du.u1[k];
+      u_.u2[k] += du.u2[k];
+    }
+  }
   ImplicitDiffusion& diffusion() { return diffusion_; }
   // One step of a cell-free channel: steps 1, 3, 4 (step 2 has nothing to move).
   ProjectionReport step();

@@ -135,4 +135,21 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
   return rep;
 }
 
+void QuasiStokesProjection::project_exact(VelocityField& u, double rho, double dt) {
+  if (!exact_pc_) {
+    std::vector<double> p(mesh_.pressure_nodes(), 0.0);
+    project(u, p, rho, dt);
+    return;
+  }
+  divergence(u, b_);
+  for (double& x : b_) x *= -rho / dt;
+  precondition(b_, z_);  // p = S⁻¹ b, mean-zero
+  B_.apply_transpose(z_, g1_, g2_);
+  const double c = dt / rho * inv_mass_;
+  for (std::size_t n = 0; n < g1_.size(); ++n) {
+    u.u1[n] += c * g1_[n];
+    u.u2[n] += c * g2_[n];
+  }
+}
+
 }  // namespace rbc

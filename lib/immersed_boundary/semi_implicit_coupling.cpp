@@ -63,10 +63,14 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
       f.u1[k] += thread_force_[t].u1[k];
       f.u2[k] += thread_force_[t].u2[k];
     }
-  std::fill(work_.u1.begin(), work_.u1.end(), 0.0);
-  std::fill(work_.u2.begin(), work_.u2.end(), 0.0);
-  flow_.diffusion().add_force_response(work_, f);
-  flow_.projection().project(work_, work_pressure_, flow_.params().fluid.density, dt_);
+  // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P.
+  if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
+  VelocityField& response = responses_[products_in_step_++];
+  std::fill(response.u1.begin(), response.u1.end(), 0.0);
+  std::fill(response.u2.begin(), response.u2.end(), 0.0);
+  flow_.diffusion().add_force_response(response, f);
+  work_ = response;
+  flow_.projection().project_exact(work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {
@@ -82,7 +86,10 @@ Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v)
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < int(blocks_.size()); ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
-    out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
+    if (several_)
+      out.segment(offset_[c], n) = blocks_[c].lu_single.solve(v.segment(offset_[c], n).cast<float>()).cast<double>();
+    else
+      out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
   }
   return out;
 }
@@ -98,9 +105,14 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   if (warm && kExtrapolateStart && before_last_U_.size() == rhs.size()) x0 = 2.0 * last_U_ - before_last_U_;
   const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, x0)) : rhs;
   const double bnorm = b.norm(), target = tolerance_ * rhs.norm();
-  if (bnorm <= target) return x0;
-  if (basis_.rows() != b.size()) basis_.resize(b.size(), max_it + 1);
+  combination_ = Eigen::VectorXd::Ones(warm ? 1 : 0);  // x0 is the first product's argument
+  if (bnorm <= target) return warm ? x0 : Eigen::VectorXd(Eigen::VectorXd::Zero(rhs.size()));
+  if (basis_.rows() != b.size()) {
+    basis_.resize(b.size(), max_it + 1);
+    arguments_.resize(b.size(), max_it);
+  }
   Eigen::MatrixXd& V = basis_;
+  Eigen::MatrixXd& Z = arguments_;  // B⁻¹ v_k, the products' arguments
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(max_it + 1, max_it);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(max_it + 1), cs(max_it), sn(max_it);
   V.col(0) = b / bnorm;
@@ -108,7 +120,8 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   int k = 0;
   last_iterations_ = 0;
   for (; k < max_it; ++k) {
-    Eigen::VectorXd w = apply_full(cells, precondition(V.col(k)));
+    Z.col(k) = precondition(V.col(k));
+    Eigen::VectorXd w = apply_full(cells, Z.col(k));
     for (int i = 0; i <= k; ++i) {  // modified Gram–Schmidt
       H(i, k) = V.col(i).dot(w);
       w -= H(i, k) * V.col(i);
@@ -137,8 +150,12 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
     throw std::runtime_error("semi-implicit coupling: the cell-to-cell system did not converge in " +
                              std::to_string(max_it) + " GMRES iterations");
   const Eigen::VectorXd y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-  Eigen::VectorXd U = precondition(V.leftCols(k) * y);
+  // U = x0 + B⁻¹ V y = x0 + Z y: a combination of the products' arguments, so that the
+  // correction is the same combination of their responses.
+  Eigen::VectorXd U = Z.leftCols(k) * y;
   if (warm) U += x0;
+  combination_.conservativeResize(combination_.size() + k);
+  combination_.tail(k) = y;
   return U;
 }
 
@@ -146,8 +163,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   using clock = std::chrono::steady_clock;
   auto t0 = clock::now();
   ++cost_.steps;
-  std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
-  std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
+  products_in_step_ = 0;
   const int ncells = int(cells.size());
   offset_.assign(ncells + 1, 0);
   for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
@@ -168,6 +184,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   t0 = clock::now();
   // With several cells the blocks only precondition GMRES (the matrix-vector product is exact),
   // so they are rebuilt every kBlockRefreshSteps steps; one cell's block is its whole system.
+  several_ = ncells > 1;
   const bool rebuild = ncells == 1 || int(blocks_.size()) != ncells || steps_since_rebuild_ >= kBlockRefreshSteps;
   steps_since_rebuild_ = rebuild ? 1 : steps_since_rebuild_ + 1;
   blocks_.resize(ncells);
@@ -175,9 +192,18 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     const Points& r = cells[c].nodes;
-    if (rebuild) {
+    if (rebuild && ncells > 1) {
+      // Built where the nodes will be halfway to the next rebuild (moving on with the last
+      // step's velocities), then used for kBlockRefreshSteps steps, then the same Δt.
+      Points ahead = r;
+      if (kBuildAhead && last_U_.size() == offset_[ncells])
+        for (std::size_t i = 0; i < r.size(); ++i)
+          ahead[i] += 0.5 * kBlockRefreshSteps * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
+      build_block(c, ahead, cells[c].target_area);
+      block_nodes_[c] = ahead;
+      blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);  // the exact products' K
+    } else if (rebuild) {
       build_block(c, r, cells[c].target_area);
-      if (ncells > 1) block_nodes_[c] = r;
     } else {
       blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
     }
@@ -192,11 +218,28 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   last_U_ = U;
   cost_.coupled += seconds_since(t0);
   t0 = clock::now();
-  // ΔF = −Δt K U, the change of the spring force over the coming step.
-  for (int c = 0; c < ncells; ++c) {
-    const Eigen::Index n = offset_[c + 1] - offset_[c];
-    const Eigen::VectorXd f = -dt_ * blocks_[c].K.apply(U.segment(offset_[c], n));
-    spread_forces(mesh_, stencils_[c], as_points(f, 0, int(n / 2)), correction_);
+  // Step 4's response to ΔF = −Δt K U, the change of the spring force over the coming step.
+  std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
+  std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
+  if (ncells == 1) {  // spread ΔF and solve
+    VelocityField& force = work_;
+    std::fill(force.u1.begin(), force.u1.end(), 0.0);
+    std::fill(force.u2.begin(), force.u2.end(), 0.0);
+    const Eigen::VectorXd f = -dt_ * blocks_[0].K.apply(U);
+    spread_forces(mesh_, stencils_[0], as_points(f, 0, int(U.size() / 2)), force);
+    flow_.diffusion().add_force_response(correction_, force);
+  } else {  // −Δt Σ_p combination_p A⁻¹ S K z_p: the products' responses, added in order
+    const std::size_t size = correction_.u1.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t k = 0; k < size; ++k) {
+      double a = 0, b = 0;
+      for (Eigen::Index p = 0; p < combination_.size(); ++p) {
+        a += combination_[p] * responses_[p].u1[k];
+        b += combination_[p] * responses_[p].u2[k];
+      }
+      correction_.u1[k] = -dt_ * a;
+      correction_.u2[k] = -dt_ * b;
+    }
   }
   cost_.correction += seconds_since(t0);
   return correction_;
@@ -209,7 +252,10 @@ void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target
   mobility_.matrix(r, M);
   Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
   B.diagonal().array() += 1.0;
-  blocks_[c].lu.compute(B);
+  if (several_)
+    blocks_[c].lu_single.compute(B.cast<float>());
+  else
+    blocks_[c].lu.compute(B);
 }
 
 void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
@@ -241,6 +287,7 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
   for (std::size_t c = 0; c < block_nodes_.size(); ++c)
     block_nodes_[c] = r.get_points(cells[c].nodes.size(), "the nodes of a preconditioner block");
   // The blocks as the uninterrupted run has them (built from the same nodes the same way).
+  several_ = cells.size() > 1;
   blocks_.resize(block_nodes_.size());
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area);

@@ -16,7 +16,8 @@
 //
 //   (I + Δt M K) U = J P u⁰                                 (2N unknowns per cell)
 //
-// and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve and one more projection per step.
+// and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve per step (with several cells not even
+// that: U is a combination of GMRES's product arguments, whose responses A⁻¹ S K z it keeps).
 // With M and K positive semi-definite
 // every membrane mode is damped like backward Euler, whatever Δt: the stable Δt is set by the
 // flow (the advective bound), not by k_l and k_b. With several cells the system couples them
@@ -25,7 +26,8 @@
 // GMRES, preconditioned by each cell's own system (exact, factored once per step); each
 // iteration is one more fast solve and projection (the exact M K v, the long way). Since the
 // blocks only precondition, they are rebuilt every kBlockRefreshSteps steps when there are
-// several cells (building them is a large part of the cost at 100 cells).
+// several cells (building them is a large part of the cost at 100 cells), and kept in single
+// precision (their triangular solves stream half the memory; GMRES corrects the rest).
 #include <vector>
 
 #include <Eigen/Dense>
@@ -45,8 +47,8 @@ class SemiImplicitMembraneStep {
   SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4);
   // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
-  // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the force density −S Δt K U (N/m³) whose
-  // step-4 response turns u⁰ into u^{n+1}.
+  // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the velocity change A⁻¹ S (−Δt K U)
+  // (m/s, zero on the walls) that turns u⁰ into u^{n+1}: step 4's response to the implicit force.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
   int last_iterations() const { return last_iterations_; }  // GMRES iterations of the last step (0: one cell)
   // Checkpoints: the projection's warm start, GMRES's starting point and the nodes the current
@@ -66,8 +68,13 @@ class SemiImplicitMembraneStep {
 
   static constexpr int kCouplingMaxIterations = 60;
   // Several cells: preconditioner blocks rebuilt every 10 steps. Measured (100 cells, wide grid,
-  // 2e-6 s): the iterations climb from 4 to 6-7 within 6-8 steps after a rebuild whatever the
-  // interval, and rebuilding when they had grown by 2 (every ~7 steps) cost more than every 10.
+  // 2e-6 s): the iterations climb from 3 to 7-8 within 10 steps of a rebuild. What goes stale is
+  // M_cc, not K_c nor the cell's rotation: a block built 0.27 h upstream of where the cell is
+  // gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same block with the old K and the new
+  // M 4e-4 — the grid-scale part of the mobility depends on where the nodes sit on the grid.
+  // So blocks are built where the nodes will be halfway to the next rebuild (kBuildAhead: 6.2 →
+  // 5.5 products per step). Rebuilding every 6, 16 or 24 steps cost more than every 10, and
+  // rebuilding when the iterations had grown by 2 (every ~7 steps) too.
   static constexpr int kBlockRefreshSteps = 10;
 
  private:
@@ -84,21 +91,28 @@ class SemiImplicitMembraneStep {
   // The coupled system of the current step.
   struct Block {
     MembraneStiffness K;                  // the cell's stiffness
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // of I + Δt M_cc K_c
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;         // of I + Δt M_cc K_c: one cell (its whole system)
+    Eigen::PartialPivLU<Eigen::MatrixXf> lu_single;  // several cells (a preconditioner): the same in single precision
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
   std::vector<std::vector<NodeStencil>> stencils_;  // each cell's transfer stencils at r^{n+1}
   VelocityField work_;                        // GMRES matrix-vector product: the velocity
+  std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
+  int products_in_step_ = 0;
+  Eigen::VectorXd combination_;               // U = Σ combination_p z_p over those products
   std::vector<VelocityField> thread_force_;  // its force, one field per thread (spreading in parallel)
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
+  Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
   std::vector<double> work_pressure_;
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
+  bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
   Eigen::VectorXd last_U_, before_last_U_;  // node velocities of the last two steps: GMRES's start
   static constexpr bool kExtrapolateStart = true;
-  std::vector<Points> block_nodes_;  // the nodes at the last rebuild of the blocks
+  static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
+  std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
   void build_block(int c, const Points& r, double target_area);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v) const;

@@ -32,7 +32,7 @@ void Simulation::step() {
   flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
   if (semi_implicit_step_) {           //     semi-implicit: + response to −S Δt K U^{n+1}
     try {
-      flow_.add_force_response(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
+      flow_.add_velocity(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
     } catch (const std::runtime_error& e) {  // the coupled GMRES did not converge
       std::ostringstream m;
       m << e.what() << " at t = " << time() << " s (step " << steps() << "); lower [time] dt";
