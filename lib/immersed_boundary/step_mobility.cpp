@@ -60,47 +60,51 @@ void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
       }
     }
   const int F = int(points.size());
-  std::vector<double> R(std::size_t(n) * F * 4);
+  std::vector<double> R(std::size_t(F) * n * 4);  // R_l(x) at [(x n + l) 4 + v]
 #pragma omp parallel for schedule(static) if (!omp_in_parallel())
   for (int l = 0; l < n; ++l) {
     const NodeStencil& b = st[l];
+    double w[16];  // φ_l's weights, wy[q] wx[qx]
+    for (int q = 0; q < 4; ++q)
+      for (int qx = 0; qx < 4; ++qx) w[q * 4 + qx] = b.wy[q] * b.wx[qx];
     for (int x = 0; x < F; ++x) {
       const auto [i, j] = points[x];
+      int d0 = i - b.i0;  // column offset to the first source column, mod nx
+      d0 += d0 < 0 ? nx : 0;
       double acc[4] = {0, 0, 0, 0};
       for (int q = 0; q < 4; ++q) {
         const int js = b.j0 + q - 1;
         if (js < 0 || js >= rows_) continue;
+        const double* plane = entry(j, js, 0);
         for (int qx = 0; qx < 4; ++qx) {
-          const int src = b.i0 + qx;  // in [0, nx + 3): i − src in (−nx − 3, nx)
-          const double w = b.wy[q] * b.wx[qx];
-          int di = i - src;
+          int di = d0 - qx;  // i − (i0 + qx) mod nx
           di += di < 0 ? nx : 0;
-          di += di < 0 ? nx : 0;
-          const double* g = entry(j, js, di) + 4 * (src & 1);
-          for (int v = 0; v < 4; ++v) acc[v] += w * g[v];
+          const double* g = plane + std::size_t(di) * 8 + 4 * ((b.i0 + qx) & 1);
+          const double wq = w[q * 4 + qx];
+          for (int v = 0; v < 4; ++v) acc[v] += wq * g[v];
         }
       }
-      for (int v = 0; v < 4; ++v) R[(std::size_t(l) * F + x) * 4 + v] = acc[v];
+      for (int v = 0; v < 4; ++v) R[(std::size_t(x) * n + l) * 4 + v] = acc[v];
     }
   }
   M.resize(2 * n, 2 * n);
 #pragma omp parallel for schedule(static) if (!omp_in_parallel())
   for (int k = 0; k < n; ++k) {
     const NodeStencil& a = st[k];
+    std::vector<double> sum(std::size_t(n) * 4, 0.0);  // row pair k of M, (l, v) with v = 2α + β
+    for (int p = 0; p < 4; ++p)
+      for (int px = 0; px < 4; ++px) {
+        const int x = slot[std::size_t(k) * 16 + p * 4 + px];
+        if (x < 0) continue;
+        const double w = a.wy[p] * a.wx[px];
+        const double* Rx = &R[std::size_t(x) * n * 4];  // R at footprint point x for every l
+        for (int lv = 0; lv < 4 * n; ++lv) sum[lv] += w * Rx[lv];
+      }
     for (int l = 0; l < n; ++l) {
-      const double* Rl = &R[std::size_t(l) * F * 4];
-      double sum[4] = {0, 0, 0, 0};
-      for (int p = 0; p < 4; ++p)
-        for (int px = 0; px < 4; ++px) {
-          const int x = slot[std::size_t(k) * 16 + p * 4 + px];
-          if (x < 0) continue;
-          const double w = a.wy[p] * a.wx[px];
-          for (int v = 0; v < 4; ++v) sum[v] += w * Rl[std::size_t(x) * 4 + v];
-        }
-      M(2 * k, 2 * l) = sum[0];
-      M(2 * k, 2 * l + 1) = sum[1];
-      M(2 * k + 1, 2 * l) = sum[2];
-      M(2 * k + 1, 2 * l + 1) = sum[3];
+      M(2 * k, 2 * l) = sum[4 * l];
+      M(2 * k, 2 * l + 1) = sum[4 * l + 1];
+      M(2 * k + 1, 2 * l) = sum[4 * l + 2];
+      M(2 * k + 1, 2 * l + 1) = sum[4 * l + 3];
     }
   }
 }
