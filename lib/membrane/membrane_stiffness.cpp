@@ -5,20 +5,57 @@
 
 namespace rbc {
 
+namespace {
+// The five nodes a node's band row couples to, as (node, offset), in increasing node order (the
+// order a column-major sparse matrix sums them in).
+struct Neighbour { int node, offset; };
+void neighbours(int i, int n, Neighbour out[5]) {
+  int k = 0;
+  for (int o = -2; o <= 2; ++o) out[k++] = {(i + o + n) % n, o};
+  std::sort(out, out + 5, [](const Neighbour& a, const Neighbour& b) { return a.node < b.node; });
+}
+}  // namespace
+
 Eigen::VectorXd MembraneStiffness::apply(const Eigen::VectorXd& v) const {
-  Eigen::VectorXd out = band * v;
+  const int n = int(band.size() / 5);
+  Eigen::VectorXd out(2 * n);
+  Neighbour nb[5];
+  for (int i = 0; i < n; ++i) {
+    neighbours(i, n, nb);
+    for (int p = 0; p < 2; ++p) {
+      double sum = 0;
+      for (const Neighbour& m : nb)
+        for (int q = 0; q < 2; ++q) sum += band[5 * i + m.offset + 2](p, q) * v[2 * m.node + q];
+      out[2 * i + p] = sum;
+    }
+  }
   if (area_gradient.size()) out += (area_coefficient * area_gradient.dot(v)) * area_gradient;
   return out;
 }
 
 Eigen::MatrixXd MembraneStiffness::right_multiply(const Eigen::MatrixXd& M) const {
-  Eigen::MatrixXd out = M * band;
+  // (M K)(:, 2j + q) = Σ_m Σ_p M(:, 2m + p) K(2m + p, 2j + q) over the rows m of column node j.
+  const int n = int(band.size() / 5);
+  Eigen::MatrixXd out(M.rows(), 2 * n);
+  Neighbour nb[5];
+  for (int j = 0; j < n; ++j) {
+    neighbours(j, n, nb);  // the band is symmetric in its pattern: rows of column j = nodes j + o
+    for (int q = 0; q < 2; ++q) {
+      auto col = out.col(2 * j + q);
+      col.setZero();
+      for (const Neighbour& m : nb)
+        for (int p = 0; p < 2; ++p) col += band[5 * m.node - m.offset + 2](p, q) * M.col(2 * m.node + p);
+    }
+  }
   if (area_gradient.size()) out.noalias() += (area_coefficient * (M * area_gradient)) * area_gradient.transpose();
   return out;
 }
 
 Eigen::MatrixXd MembraneStiffness::dense() const {
-  Eigen::MatrixXd K = Eigen::MatrixXd(band);
+  const int n = int(band.size() / 5);
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  for (int i = 0; i < n; ++i)
+    for (int o = -2; o <= 2; ++o) K.block<2, 2>(2 * i, 2 * ((i + o + n) % n)) = band[5 * i + o + 2];
   if (area_gradient.size()) K.noalias() += area_coefficient * area_gradient * area_gradient.transpose();
   return K;
 }
@@ -26,11 +63,12 @@ Eigen::MatrixXd MembraneStiffness::dense() const {
 MembraneStiffness membrane_stiffness(const MembraneModel& m, const Points& r, double target_area) {
   const int n = int(r.size());
   const double l0 = m.rest_length();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(std::size_t(n) * 4 * 13);
-  auto block = [&](int a, int b, const Eigen::Matrix2d& B) {
-    for (int p = 0; p < 2; ++p)
-      for (int q = 0; q < 2; ++q) t.emplace_back(2 * a + p, 2 * b + q, B(p, q));
+  MembraneStiffness K;
+  K.band.assign(std::size_t(5) * n, Eigen::Matrix2d::Zero());
+  auto block = [&](int a, int b, const Eigen::Matrix2d& B) {  // K(a, b) += B
+    int o = (b - a + n) % n;
+    o = o > 2 ? o - n : o;
+    K.band[std::size_t(5) * a + o + 2] += B;
   };
   for (int i = 0; i < n; ++i) {
     const int ip = (i + 1) % n, im = (i + n - 1) % n;
@@ -59,9 +97,6 @@ MembraneStiffness membrane_stiffness(const MembraneModel& m, const Points& r, do
     for (int p = 0; p < 3; ++p)
       for (int q = 0; q < 3; ++q) block(idx[p], idx[q], m.kb * g[p] * g[q].transpose());
   }
-  MembraneStiffness K;
-  K.band.resize(2 * n, 2 * n);
-  K.band.setFromTriplets(t.begin(), t.end());  // duplicates are summed
   // Area penalty: rank one, ∂s/∂r_i = ½ (y_{i+1} − y_{i−1}, x_{i−1} − x_{i+1}).
   if (m.area_penalty && m.ks != 0.0) {
     K.area_gradient.resize(2 * n);

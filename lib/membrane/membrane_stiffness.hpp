@@ -12,17 +12,23 @@
 //   area penalty:       (k_s/s_e²) ∇s ∇sᵀ  (Gauss–Newton: exact at s = s_e)
 //
 // K is 2N × 2N with unknowns ordered (x_1, y_1, x_2, …), units N/m per m. The springs and bending
-// couple each node to its two neighbours on either side (a sparse band); the area term is rank
-// one, c g gᵀ. We keep the two apart, so that K v and M K cost O(N) and O(N²), not O(N²), O(N³).
+// couple each node to its two neighbours on either side (a periodic band of 2 × 2 blocks); the
+// area term is rank one, c g gᵀ. We keep the two apart, so that K v and M K cost O(N) and O(N²),
+// not O(N²), O(N³). (The band is built for every cell at every semi-implicit step: stored as
+// blocks, not as a general sparse matrix, it costs a fifth; sums run in the order a sparse
+// matrix would take them, so results are the same bits.)
+#include <vector>
+
 #include <Eigen/Dense>
-#include <Eigen/Sparse>
 
 #include "membrane/spring_membrane.hpp"
 
 namespace rbc {
 
 struct MembraneStiffness {
-  Eigen::SparseMatrix<double> band;  // springs and bending
+  // Springs and bending: the 2 × 2 block coupling node i to node i + o (mod N), o = −2 … 2, at
+  // band[5 i + o + 2].
+  std::vector<Eigen::Matrix2d> band;
   Eigen::VectorXd area_gradient;     // g = ∂s/∂r (empty without the area penalty)
   double area_coefficient = 0;       // c = k_s / s_e²
 
