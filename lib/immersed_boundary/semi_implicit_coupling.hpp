@@ -73,8 +73,9 @@ class SemiImplicitMembraneStep {
   // gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same block with the old K and the new
   // M 4e-4 — the grid-scale part of the mobility depends on where the nodes sit on the grid.
   // So blocks are built where the nodes will be halfway to the next rebuild (kBuildAhead: 6.2 →
-  // 5.5 products per step). Rebuilding every 6, 16 or 24 steps cost more than every 10, and
-  // rebuilding when the iterations had grown by 2 (every ~7 steps) too.
+  // 5.5 products per step from rest, 7.4 → 7.0 in the developed flow). Rebuilding every 6, 15,
+  // 16, 20 or 24 steps cost more than every 10, and rebuilding when the iterations had grown by 2
+  // (every ~7 steps) too (paper/method/04_semi_implicit_coupling.md).
   static constexpr int kBlockRefreshSteps = 10;
 
  private:
