@@ -125,31 +125,32 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
   }
   rep.residual = rnorm / bnorm;
   remove_mean(p);
-  // Velocity update on the interior: u = uⁿ + (Δt/ρ) M⁻¹ Bᵀ p.
-  B_.apply_transpose(p, g1_, g2_);
-  const double c = dt / rho * inv_mass_;
-  for (std::size_t n = 0; n < g1_.size(); ++n) {
-    u.u1[n] += c * g1_[n];
-    u.u2[n] += c * g2_[n];
-  }
+  add_pressure_gradient(u, p, rho, dt, u);
   return rep;
 }
 
-void QuasiStokesProjection::project_exact(VelocityField& u, double rho, double dt) {
+void QuasiStokesProjection::add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho,
+                                                  double dt, VelocityField& out) {
+  // Velocity update on the interior: out = u + (Δt/ρ) M⁻¹ Bᵀ p (Bᵀ p is zero on the walls).
+  B_.apply_transpose(p, g1_, g2_);
+  const double c = dt / rho * inv_mass_;
+  for (std::size_t n = 0; n < g1_.size(); ++n) {
+    out.u1[n] = u.u1[n] + c * g1_[n];
+    out.u2[n] = u.u2[n] + c * g2_[n];
+  }
+}
+
+void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt) {
   if (!exact_pc_) {
+    out = u;
     std::vector<double> p(mesh_.pressure_nodes(), 0.0);
-    project(u, p, rho, dt);
+    project(out, p, rho, dt);
     return;
   }
   divergence(u, b_);
   for (double& x : b_) x *= -rho / dt;
   precondition(b_, z_);  // p = S⁻¹ b, mean-zero
-  B_.apply_transpose(z_, g1_, g2_);
-  const double c = dt / rho * inv_mass_;
-  for (std::size_t n = 0; n < g1_.size(); ++n) {
-    u.u1[n] += c * g1_[n];
-    u.u2[n] += c * g2_[n];
-  }
+  add_pressure_gradient(u, z_, rho, dt, out);
 }
 
 }  // namespace rbc

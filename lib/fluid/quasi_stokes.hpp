@@ -39,8 +39,8 @@ class QuasiStokesProjection {
   // The same projection as a fixed linear map, for the semi-implicit coupling's GMRES products:
   // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check
   // (B, one solve, Bᵀ: two stencil sweeps fewer than project()); with the Laplacian one, project()
-  // from p = 0.
-  void project_exact(VelocityField& u, double rho, double dt);
+  // from p = 0. out = P u (out may be u).
+  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt);
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
@@ -48,6 +48,8 @@ class QuasiStokesProjection {
 
  private:
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
+  // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
+  void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
   void precondition(const std::vector<double>& r, std::vector<double>& z);
 
   ChannelMesh mesh_;

@@ -22,8 +22,7 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
-      work_(flow.mesh()),
-      work_pressure_(flow.mesh().pressure_nodes(), 0.0) {}
+      work_(flow.mesh()){}
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -69,8 +68,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   std::fill(response.u1.begin(), response.u1.end(), 0.0);
   std::fill(response.u2.begin(), response.u2.end(), 0.0);
   flow_.diffusion().add_force_response(response, f);
-  work_ = response;
-  flow_.projection().project_exact(work_, flow_.params().fluid.density, dt_);
+  flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {
@@ -192,21 +190,16 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     const Points& r = cells[c].nodes;
-    if (rebuild && ncells > 1) {
-      // Built where the nodes will be halfway to the next rebuild (moving on with the last
-      // step's velocities), then used for kBlockRefreshSteps steps, then the same Δt.
-      Points ahead = r;
-      if (kBuildAhead && last_U_.size() == offset_[ncells])
-        for (std::size_t i = 0; i < r.size(); ++i)
-          ahead[i] += 0.5 * kBlockRefreshSteps * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
-      build_block(c, ahead, cells[c].target_area);
-      block_nodes_[c] = ahead;
-      blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);  // the exact products' K
-    } else if (rebuild) {
-      build_block(c, r, cells[c].target_area);
-    } else {
-      blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);
-    }
+    blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);  // at r^{n+1}: the system's K
+    if (!rebuild) continue;
+    // Several cells: built where the nodes will be halfway to the next rebuild (moving on with
+    // the last step's velocities), then used for kBlockRefreshSteps steps.
+    Points at = r;
+    if (several_ && kBuildAhead && last_U_.size() == offset_[ncells])
+      for (std::size_t i = 0; i < r.size(); ++i)
+        at[i] += 0.5 * kBlockRefreshSteps * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
+    build_block(c, at, cells[c].target_area);
+    if (several_) block_nodes_[c] = at;
   }
   if (rebuild) cost_.block_builds += ncells;
   cost_.blocks += seconds_since(t0);
@@ -246,11 +239,11 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
 }
 
 void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area) {
-  // The cell's own system I + Δt M_cc K_c at nodes r, factored once.
-  blocks_[c].K = membrane_stiffness(model_, r, target_area);
+  // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r).
+  const MembraneStiffness K = membrane_stiffness(model_, r, target_area);
   Eigen::MatrixXd M;
   mobility_.matrix(r, M);
-  Eigen::MatrixXd B = dt_ * blocks_[c].K.right_multiply(M);
+  Eigen::MatrixXd B = dt_ * K.right_multiply(M);
   B.diagonal().array() += 1.0;
   if (several_)
     blocks_[c].lu_single.compute(B.cast<float>());

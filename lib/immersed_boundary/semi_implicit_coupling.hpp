@@ -105,7 +105,6 @@ class SemiImplicitMembraneStep {
   std::vector<VelocityField> thread_force_;  // its force, one field per thread (spreading in parallel)
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
-  std::vector<double> work_pressure_;
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES

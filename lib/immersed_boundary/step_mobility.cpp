@@ -88,10 +88,13 @@ void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
     }
   }
   M.resize(2 * n, 2 * n);
-#pragma omp parallel for schedule(static) if (!omp_in_parallel())
+#pragma omp parallel if (!omp_in_parallel())
+  {
+  std::vector<double> sum(std::size_t(n) * 4);  // row pair k of M, (l, v) with v = 2α + β
+#pragma omp for schedule(static)
   for (int k = 0; k < n; ++k) {
     const NodeStencil& a = st[k];
-    std::vector<double> sum(std::size_t(n) * 4, 0.0);  // row pair k of M, (l, v) with v = 2α + β
+    std::fill(sum.begin(), sum.end(), 0.0);
     for (int p = 0; p < 4; ++p)
       for (int px = 0; px < 4; ++px) {
         const int x = slot[std::size_t(k) * 16 + p * 4 + px];
@@ -106,6 +109,7 @@ void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
       M(2 * k + 1, 2 * l) = sum[4 * l + 2];
       M(2 * k + 1, 2 * l + 1) = sum[4 * l + 3];
     }
+  }
   }
 }
 

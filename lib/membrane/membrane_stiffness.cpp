@@ -12,6 +12,7 @@ struct Neighbour { int node, offset; };
 void neighbours(int i, int n, Neighbour out[5]) {
   int k = 0;
   for (int o = -2; o <= 2; ++o) out[k++] = {(i + o + n) % n, o};
+  if (i >= 2 && i + 2 < n) return;  // no wrap: already in order
   std::sort(out, out + 5, [](const Neighbour& a, const Neighbour& b) { return a.node < b.node; });
 }
 }  // namespace
