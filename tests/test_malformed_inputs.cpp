@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/checkpoint.hpp"
 #include "scene/scene.hpp"
 
 namespace rbc {
@@ -157,6 +158,8 @@ std::vector<Case> corpus() {
       {"resume without checkpoint", "", "resume /tmp/rbcflow-no-such-run", 2, {"no checkpoint"}},
       {"resume a folder with a damaged checkpoint", "", "resume " + (fs::temp_directory_path() / "rbcflow_malformed_damaged").string(), 2,
        {"checksum mismatch"}},
+      {"resume a folder with a checkpoint of an older format", "",
+       "resume " + (fs::temp_directory_path() / "rbcflow_malformed_old_format").string(), 2, {"checkpoint format 1", "reads format"}},
   };
   return c;
 }
@@ -165,8 +168,17 @@ TEST(MalformedInput, EveryCorpusEntryExitsNonZeroWithOneClearLine) {
   // A folder whose only checkpoint is damaged, for the last entry.
   const fs::path damaged = fs::temp_directory_path() / "rbcflow_malformed_damaged";
   fs::create_directories(damaged);
-  const std::string garbage("RBCFLOW-CHECKPOINT\x01\0\0\0garbage-garbage-garbage", 45);
-  std::ofstream(damaged / "checkpoint.bin", std::ios::binary) << garbage;
+  // Magic and this version's format number, then a payload whose checksum is wrong.
+  auto checkpoint_of_format = [](std::uint32_t format) {
+    std::string s("RBCFLOW-CHECKPOINT");
+    s.append(reinterpret_cast<const char*>(&format), sizeof format);
+    return s + "garbage-garbage-garbage";
+  };
+  std::ofstream(damaged / "checkpoint.bin", std::ios::binary) << checkpoint_of_format(rbc::kCheckpointFormat);
+  // And a folder whose checkpoint has the format before the current one (refused before its checksum is read).
+  const fs::path old_format = fs::temp_directory_path() / "rbcflow_malformed_old_format";
+  fs::create_directories(old_format);
+  std::ofstream(old_format / "checkpoint.bin", std::ios::binary) << checkpoint_of_format(1);
   const std::vector<Case> cases = corpus();
   EXPECT_GE(cases.size(), 40u);
   for (const Case& c : cases) {

@@ -29,6 +29,7 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
     const std::vector<double>* extra = field ? (c == 0 ? &field->u1 : &field->u2) : nullptr;
     const double* bottom = &f[0];
     const double* top = &f[std::size_t(m_.ny) * nx];
+#pragma omp parallel for schedule(static)
     for (int r = 0; r < rows; ++r) {
       const std::size_t o = std::size_t(r + 1) * nx;  // node row j = r + 1
       double* out = &rhs_[std::size_t(r) * nx];
@@ -39,7 +40,8 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
         for (int i = 0; i < nx; ++i) out[i] += mu_ * top[i];
     }
     solver_->solve(rhs_.data(), rhs_.data());
-    std::copy(rhs_.begin(), rhs_.end(), f.begin() + nx);
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < nx * rows; ++k) f[nx + k] = rhs_[k];
   }
 }
 
@@ -49,9 +51,12 @@ void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField
   for (int c = 0; c < 2; ++c) {
     std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
     const std::vector<double>& g = (c == 0) ? field.u1 : field.u2;
-    for (std::size_t k = 0; k < rhs_.size(); ++k) rhs_[k] = h2 * g[nx + k];
+    const int n = nx * rows;
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k) rhs_[k] = h2 * g[nx + k];
     solver_->solve(rhs_.data(), rhs_.data());
-    for (int k = 0, n = nx * rows; k < n; ++k) f[nx + k] += rhs_[k];
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k) f[nx + k] += rhs_[k];
   }
 }
 

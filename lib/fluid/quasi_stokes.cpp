@@ -134,7 +134,9 @@ void QuasiStokesProjection::add_pressure_gradient(const VelocityField& u, const 
   // Velocity update on the interior: out = u + (Δt/ρ) M⁻¹ Bᵀ p (Bᵀ p is zero on the walls).
   B_.apply_transpose(p, g1_, g2_);
   const double c = dt / rho * inv_mass_;
-  for (std::size_t n = 0; n < g1_.size(); ++n) {
+  const std::ptrdiff_t size = std::ptrdiff_t(g1_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t n = 0; n < size; ++n) {
     out.u1[n] = u.u1[n] + c * g1_[n];
     out.u2[n] = u.u2[n] + c * g2_[n];
   }

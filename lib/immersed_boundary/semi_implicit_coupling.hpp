@@ -109,8 +109,8 @@ class SemiImplicitMembraneStep {
   int steps_since_rebuild_ = 0;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
-  Eigen::VectorXd last_U_, before_last_U_;  // node velocities of the last two steps: GMRES's start
-  static constexpr bool kExtrapolateStart = true;
+  // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.
+  Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
   static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
   void build_block(int c, const Points& r, double target_area);

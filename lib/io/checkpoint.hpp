@@ -23,7 +23,8 @@ struct CheckpointError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr std::uint32_t kCheckpointFormat = 1;
+// 2: the semi-implicit coupling also keeps the right-hand sides of its last two steps.
+inline constexpr std::uint32_t kCheckpointFormat = 2;
 
 class CheckpointWriter {
  public:
