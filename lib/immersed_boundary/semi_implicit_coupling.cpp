@@ -107,18 +107,50 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // (measured, 100 cells in the developed flow, 100 steps: initial residual ≈ 1e-2 → 2–6e-3 of
   // ‖b‖, 6.8 → 5.8 products per step; a quadratic extrapolation with the third difference of b
   // did worse, 6.5).
-  const int max_it = kCouplingMaxIterations;
   const bool warm = last_U_.size() == rhs.size() && last_rhs_.size() == rhs.size();
   Eigen::VectorXd x0;
   if (warm && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
     x0 = 2.0 * last_U_ - before_last_U_ + precondition(rhs - 2.0 * last_rhs_ + before_last_rhs_);
   else if (warm)
     x0 = last_U_ + precondition(rhs - last_rhs_);
+  const double target = tolerance_ * rhs.norm();
+  last_iterations_ = 0;
+  bool converged = false;
+  Eigen::VectorXd U = gmres(cells, rhs, x0, warm, fresh_blocks_after_, target, converged);
+  if (!converged) {
+    // The blocks have gone too stale for this Δt (the cells moved further than they were built
+    // ahead for): rebuild them at the nodes of this step and go on from where GMRES got to.
+    const auto t0 = std::chrono::steady_clock::now();
+    rebuild_blocks(cells, false);
+    refresh_steps_ = std::max(1, refresh_steps_ / 2);
+    fresh_in_step_ = true;
+    ++cost_.fresh_rebuilds;
+    const double seconds = seconds_since(t0);  // counted as blocks, not as the coupled solve
+    cost_.blocks += seconds;
+    cost_.coupled -= seconds;
+    U = gmres(cells, rhs, U, true, kCouplingMaxIterations, target, converged);
+    if (!converged)
+      throw std::runtime_error("semi-implicit coupling: the cell-to-cell system did not converge in " +
+                               std::to_string(fresh_blocks_after_) + " + " + std::to_string(kCouplingMaxIterations) +
+                               " GMRES iterations (the second run with blocks built at the nodes of this step)");
+  }
+  return U;
+}
+
+Eigen::VectorXd SemiImplicitMembraneStep::gmres(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs,
+                                                const Eigen::VectorXd& x0, bool warm, int max_it, double target,
+                                                bool& converged) {
+  // One GMRES run of at most max_it iterations from x0 (0 if not warm); returns its last iterate.
   const Eigen::VectorXd b = warm ? Eigen::VectorXd(rhs - apply_full(cells, x0)) : rhs;
-  const double bnorm = b.norm(), target = tolerance_ * rhs.norm();
-  combination_ = Eigen::VectorXd::Ones(warm ? 1 : 0);  // x0 is the first product's argument
-  if (bnorm <= target) return warm ? x0 : Eigen::VectorXd(Eigen::VectorXd::Zero(rhs.size()));
-  if (basis_.rows() != b.size()) {
+  // U = x0 + Z y is a combination of the products' arguments, so that the correction is the same
+  // combination of their responses: x0 is the argument of the product just made (if warm), the
+  // products of an earlier run drop out.
+  combination_ = Eigen::VectorXd::Zero(products_in_step_);
+  if (warm) combination_[products_in_step_ - 1] = 1.0;
+  const double bnorm = b.norm();
+  converged = bnorm <= target;
+  if (converged) return warm ? x0 : Eigen::VectorXd(Eigen::VectorXd::Zero(rhs.size()));
+  if (basis_.rows() != b.size() || basis_.cols() < max_it + 1) {
     basis_.resize(b.size(), max_it + 1);
     arguments_.resize(b.size(), max_it);
   }
@@ -129,7 +161,6 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   V.col(0) = b / bnorm;
   g[0] = bnorm;
   int k = 0;
-  last_iterations_ = 0;
   for (; k < max_it; ++k) {
     Z.col(k) = precondition(V.col(k));
     Eigen::VectorXd w = apply_full(cells, Z.col(k));
@@ -151,23 +182,38 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
     H(k + 1, k) = 0;
     g[k + 1] = -sn[k] * g[k];
     g[k] = cs[k] * g[k];
-    last_iterations_ = k + 1;
+    ++last_iterations_;
     if (std::abs(g[k + 1]) <= target) {
+      converged = true;
       ++k;
       break;
     }
   }
-  if (std::abs(g[k]) > target && k == max_it)
-    throw std::runtime_error("semi-implicit coupling: the cell-to-cell system did not converge in " +
-                             std::to_string(max_it) + " GMRES iterations");
   const Eigen::VectorXd y = H.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
-  // U = x0 + B⁻¹ V y = x0 + Z y: a combination of the products' arguments, so that the
-  // correction is the same combination of their responses.
   Eigen::VectorXd U = Z.leftCols(k) * y;
   if (warm) U += x0;
   combination_.conservativeResize(combination_.size() + k);
   combination_.tail(k) = y;
   return U;
+}
+
+void SemiImplicitMembraneStep::rebuild_blocks(const std::vector<Cell>& cells, bool ahead) {
+  // Several cells: each block built where the cell's nodes will be halfway to the next rebuild
+  // (moving on with the last step's velocities), then used for refresh_steps_ steps.
+  const int ncells = int(cells.size());
+  const bool move = ahead && kBuildAhead && last_U_.size() == offset_[ncells];
+  block_nodes_.resize(ncells);
+#pragma omp parallel for schedule(dynamic)
+  for (int c = 0; c < ncells; ++c) {
+    Points at = cells[c].nodes;
+    if (move)
+      for (std::size_t i = 0; i < at.size(); ++i)
+        at[i] += 0.5 * refresh_steps_ * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
+    build_block(c, at, cells[c].target_area);
+    block_nodes_[c] = at;
+  }
+  cost_.block_builds += ncells;
+  steps_since_rebuild_ = 1;
 }
 
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
@@ -194,32 +240,37 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   cost_.predictor += seconds_since(t0);
   t0 = clock::now();
   // With several cells the blocks only precondition GMRES (the matrix-vector product is exact),
-  // so they are rebuilt every kBlockRefreshSteps steps; one cell's block is its whole system.
+  // so they are rebuilt every refresh_steps_ steps: kBlockRefreshSteps, halved after a step that
+  // needed more than kRebuildAboveIterations iterations or fresh blocks (rebuilt at the next step),
+  // and grown back by one at each rebuild that was due. One cell's block is its whole system,
+  // built every step.
   several_ = ncells > 1;
-  const bool rebuild = ncells == 1 || int(blocks_.size()) != ncells || steps_since_rebuild_ >= kBlockRefreshSteps;
-  steps_since_rebuild_ = rebuild ? 1 : steps_since_rebuild_ + 1;
   blocks_.resize(ncells);
-  if (rebuild) block_nodes_.resize(ncells > 1 ? ncells : 0);  // one cell: its block is rebuilt every step
 #pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < ncells; ++c) {
-    const Points& r = cells[c].nodes;
-    blocks_[c].K = membrane_stiffness(model_, r, cells[c].target_area);  // at r^{n+1}: the system's K
-    if (!rebuild) continue;
-    // Several cells: built where the nodes will be halfway to the next rebuild (moving on with
-    // the last step's velocities), then used for kBlockRefreshSteps steps.
-    Points at = r;
-    if (several_ && kBuildAhead && last_U_.size() == offset_[ncells])
-      for (std::size_t i = 0; i < r.size(); ++i)
-        at[i] += 0.5 * kBlockRefreshSteps * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
-    build_block(c, at, cells[c].target_area);
-    if (several_) block_nodes_[c] = at;
+  for (int c = 0; c < ncells; ++c) blocks_[c].K = membrane_stiffness(model_, cells[c].nodes, cells[c].target_area);  // at r^{n+1}: the system's K
+  if (!several_) {
+    block_nodes_.clear();
+    build_block(0, cells[0].nodes, cells[0].target_area);
+    ++cost_.block_builds;
+  } else if (int(block_nodes_.size()) != ncells || rebuild_now_ || steps_since_rebuild_ >= refresh_steps_) {
+    if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(kBlockRefreshSteps, refresh_steps_ + 1);
+    rebuild_now_ = false;
+    rebuild_blocks(cells, true);
+  } else {
+    ++steps_since_rebuild_;
   }
-  if (rebuild) cost_.block_builds += ncells;
   cost_.blocks += seconds_since(t0);
   t0 = clock::now();
   // One cell: its own system is the whole system. Several: the coupled solve.
   last_iterations_ = 0;
+  fresh_in_step_ = false;
   const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
+  // A step that needed many iterations: the blocks go stale faster than the interval assumes (a
+  // larger Δt, faster cells), so they are rebuilt at the next step and more often from then on.
+  if (several_ && !fresh_in_step_ && last_iterations_ > kRebuildAboveIterations) {
+    refresh_steps_ = std::max(1, refresh_steps_ / 2);
+    rebuild_now_ = true;
+  }
   before_last_U_ = last_U_;
   last_U_ = U;
   before_last_rhs_ = last_rhs_;
@@ -273,6 +324,8 @@ void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
   w.put(last_rhs_);
   w.put(before_last_rhs_);
   w.put(std::int64_t(steps_since_rebuild_));
+  w.put(std::int64_t(refresh_steps_));
+  w.put(std::int64_t(rebuild_now_));
   w.put(std::int64_t(last_iterations_));
   w.put(std::int64_t(block_nodes_.size()));
   for (const Points& r : block_nodes_) w.put(r);
@@ -290,6 +343,11 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
     if (v->size() != 0 && std::size_t(v->size()) != unknowns)
       throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
   steps_since_rebuild_ = int(r.get_int());
+  refresh_steps_ = int(r.get_int());
+  if (refresh_steps_ < 1 || refresh_steps_ > kBlockRefreshSteps)
+    throw CheckpointError(r.path() + ": preconditioner refresh interval " + std::to_string(refresh_steps_) + " out of range [1, " +
+                          std::to_string(kBlockRefreshSteps) + "]");
+  rebuild_now_ = r.get_int() != 0;
   last_iterations_ = int(r.get_int());
   const std::int64_t nblocks = r.get_int();
   if (nblocks != 0 && nblocks != std::int64_t(cells.size()))

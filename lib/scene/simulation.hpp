@@ -49,6 +49,7 @@ class Simulation {
   void load(CheckpointReader& r);  // into a Simulation built from the same scene
   // The semi-implicit step (its cost breakdown), or null.
   const SemiImplicitMembraneStep* semi_implicit_step() const { return semi_implicit_step_.get(); }
+  SemiImplicitMembraneStep* semi_implicit_step() { return semi_implicit_step_.get(); }
 
  private:
   Scene scene_;
