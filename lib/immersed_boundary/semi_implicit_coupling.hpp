@@ -23,11 +23,13 @@
 // flow (the advective bound), not by k_l and k_b. With several cells the system couples them
 // through the fluid; leaving that coupling explicit (each cell with its own block only) was
 // unstable at Δt = 2e-6 s for two cells 5 µm apart (measured), so we solve the coupled system by
-// GMRES, preconditioned by each cell's own system (exact, factored once per step); each
-// iteration is one more fast solve and projection (the exact M K v, the long way). Since the
-// blocks only precondition, they are rebuilt every kBlockRefreshSteps steps when there are
-// several cells (building them is a large part of the cost at 100 cells), and kept in single
-// precision (their triangular solves stream half the memory; GMRES corrects the rest).
+// GMRES, preconditioned by each cell's own system (exact when built), started from the last
+// steps' solutions carried on (solve_coupled); each iteration is one more fast solve and
+// projection (the exact M K v, the long way). Since the blocks only precondition, they are
+// rebuilt every few steps when there are several cells (building them is a large part of the
+// cost at 100 cells; the interval shortens by itself when GMRES needs many iterations, as at
+// larger Δt), and kept in single precision (their triangular solves stream half the memory;
+// GMRES corrects the rest).
 #include <vector>
 
 #include <Eigen/Dense>
@@ -79,15 +81,17 @@ class SemiImplicitMembraneStep {
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
   static constexpr int kRebuildAboveIterations = 12;
-  // Several cells: preconditioner blocks rebuilt every 10 steps. Measured (100 cells, wide grid,
-  // 2e-6 s): the iterations climb from 3 to 7-8 within 10 steps of a rebuild. What goes stale is
+  // Several cells: preconditioner blocks rebuilt every 10 steps at most (see refresh_steps_).
+  // Measured (100 cells, wide grid, 2e-6 s): the iterations climb from 3 to 7-8 within 10 steps
+  // of a rebuild. What goes stale is
   // M_cc, not K_c nor the cell's rotation: a block built 0.27 h upstream of where the cell is
   // gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same block with the old K and the new
   // M 4e-4 — the grid-scale part of the mobility depends on where the nodes sit on the grid.
   // So blocks are built where the nodes will be halfway to the next rebuild (kBuildAhead: 6.2 →
   // 5.5 products per step from rest, 7.4 → 7.0 in the developed flow). Rebuilding every 6, 15,
   // 16, 20 or 24 steps cost more than every 10, and rebuilding when the iterations had grown by 2
-  // (every ~7 steps) too (paper/method/04_semi_implicit_coupling.md).
+  // (every ~7 steps) too (paper/method/04_semi_implicit_coupling.md). With the start of
+  // solve_coupled, 8 and 12 steps were no better than 10 either (5.6 and 6.0 products against 5.8).
   static constexpr int kBlockRefreshSteps = 10;
 
  private:
