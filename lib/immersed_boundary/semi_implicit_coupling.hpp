@@ -72,21 +72,22 @@ class SemiImplicitMembraneStep {
   // GMRES: at most kFreshBlocksAfter iterations with the blocks as they are; if that does not
   // converge, the blocks are rebuilt at the nodes of the step and GMRES goes on from its last
   // iterate for at most kCouplingMaxIterations more (then the run stops). A step that needed more
-  // than kRebuildAboveIterations has the blocks rebuilt at the next step. Neither triggers at
-  // Δt = 2e-6 s in the benchmark's 100-cell flow (at most 8 iterations a step); they keep larger
-  // steps going, whose blocks go stale sooner (100 cells in the developed flow with only the
-  // fixed interval: GMRES did not converge in 60 iterations at step 7 with Δt = 4e-6 s).
+  // than kRebuildAboveIterations has the blocks rebuilt at the next step and the interval halved.
+  // Neither triggers at Δt = 2e-6 s in the benchmark's 100-cell flow (at most 11 iterations a
+  // step, at its first steps); they keep larger steps going, whose blocks go stale sooner (100
+  // cells in the developed flow with only the fixed interval: GMRES did not converge in 60
+  // iterations at step 7 with Δt = 4e-6 s, at step 3 with 6e-6 s).
   static constexpr int kCouplingMaxIterations = 60;
   static constexpr int kFreshBlocksAfter = 20;
+  static constexpr int kRebuildAboveIterations = 12;
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
-  static constexpr int kRebuildAboveIterations = 12;
   // Several cells: preconditioner blocks rebuilt every 10 steps at most (see refresh_steps_).
   // Measured (100 cells, wide grid, 2e-6 s): the iterations climb from 3 to 7-8 within 10 steps
-  // of a rebuild. What goes stale is
-  // M_cc, not K_c nor the cell's rotation: a block built 0.27 h upstream of where the cell is
-  // gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same block with the old K and the new
-  // M 4e-4 — the grid-scale part of the mobility depends on where the nodes sit on the grid.
+  // of a rebuild. What goes stale is M_cc, not K_c nor the cell's rotation: a block built 0.27 h
+  // upstream of where the cell is gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same
+  // block with the old K and the new M 4e-4 — the grid-scale part of the mobility depends on
+  // where the nodes sit on the grid.
   // So blocks are built where the nodes will be halfway to the next rebuild (kBuildAhead: 6.2 →
   // 5.5 products per step from rest, 7.4 → 7.0 in the developed flow). Rebuilding every 6, 15,
   // 16, 20 or 24 steps cost more than every 10, and rebuilding when the iterations had grown by 2
