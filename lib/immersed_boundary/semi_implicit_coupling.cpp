@@ -57,16 +57,18 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
     }
   }
   VelocityField& f = thread_force_[0];  // the sum, in thread order
-  for (int t = 1; t < threads; ++t)
-    for (std::size_t k = 0; k < f.u1.size(); ++k) {
-      f.u1[k] += thread_force_[t].u1[k];
-      f.u2[k] += thread_force_[t].u2[k];
-    }
   // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P.
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
-  std::fill(response.u1.begin(), response.u1.end(), 0.0);
-  std::fill(response.u2.begin(), response.u2.end(), 0.0);
+  const std::ptrdiff_t size = std::ptrdiff_t(f.u1.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < size; ++k) {
+    for (int t = 1; t < threads; ++t) {
+      f.u1[k] += thread_force_[t].u1[k];
+      f.u2[k] += thread_force_[t].u2[k];
+    }
+    response.u1[k] = response.u2[k] = 0.0;
+  }
   flow_.diffusion().add_force_response(response, f);
   flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
