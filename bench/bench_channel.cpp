@@ -78,9 +78,9 @@ static void bench_cells() {
   // cells) the fluid reaches 0.6-2.7 m/s near the membranes (the flow's peak is 0.1 m/s) and the
   // springs 6-25 % strain within 40 us, and at 7.5e-8 s 100 cells do so after 0.12 ms; at 8e-8 s
   // (one cell, 0.1 ms) and 6e-8 s (100 cells, 0.2 ms) the largest speed stays at the flow's and
-  // strain below 0.1 %. Such an oscillation saturates below the CFL and strain limits of
-  // Simulation::check_health, so it does not stop a run: the "9.4e-8 s" limit measured with those
-  // checks is not a stable step. The semi-implicit one at 2e-6 s (25 and 33 times those steps;
+  // strain below 0.1 %. Such an oscillation saturates below the CFL and strain limits, so
+  // Simulation::check_health watches the fluid speed too (kMaxSpeedRatio); the "9.4e-8 s" limit
+  // measured with the CFL and strain checks alone was not a stable step. The semi-implicit one at 2e-6 s (25 and 33 times those steps;
   // Q = 2 keeps the advective bound).
   // Every row starts from the developed cell-free profile, not from rest: the cells then move as
   // in a long run (≈ 0.6 h per semi-implicit step at the centre), which is what makes the

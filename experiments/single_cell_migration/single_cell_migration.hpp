@@ -30,7 +30,7 @@ struct Params {
   std::vector<double> swelling_ratios = {0.55, 0.7, 1.0};
   std::string units = "si";  // the reading of the constants; chosen by the evidence below (README.md)
   double narrow_mesh = 0.125e-6;   // h, m (80 per 10 um)
-  double narrow_dt = 2e-8;         // s; our explicit limit is 3.0e-8 s (measured, test ExplicitCoupling.*)
+  double narrow_dt = 2e-8;         // s; our explicit limit is 2.6e-8 s (stability map, since the speed check)
   double narrow_end = 7.5e-3;      // s
   double sample_every = 5e-5;      // s; Re with the cell is averaged over the last sample interval
   // Units evidence: the other reading run over the first part of the migration.
@@ -39,8 +39,8 @@ struct Params {
   double other_end = 1.0e-3;       // s
   std::vector<double> other_swelling_ratios = {0.55, 1.0};  // a parachute and a bullet in the study
   // Wide channel (Figure 5): initial centroid (25, 10) um (not stated in the study: our choice).
-  // The study's 800 ms with the semi-implicit coupling at Δt = 6e-6 s: 64 times our explicit
-  // limit at this h (9.4e-8 s), Q = 4 wave-like substeps for the advective bound (6.25e-6 s);
+  // The study's 800 ms with the semi-implicit coupling at Δt = 6e-6 s: 75 times our explicit
+  // limit at this h (8e-8 s), Q = 4 wave-like substeps for the advective bound (6.25e-6 s);
   // chosen so that the three runs fit in one working session (≈ 1 h on 2 cores). Its Δt error,
   // measured on the first 2 ms against the explicit scheme (Δt = 5e-8 s): the lateral
   // displacement of the centroid is 9 % (2e-6 s) and 22 % (6e-6 s) short (issue 4 note).

@@ -56,6 +56,15 @@ void Simulation::check_health() const {
     else m << "; with cells this usually means the " << scene_.coupling << " membrane coupling went unstable: lower [time] dt";
     throw RunFailure(m.str());
   }
+  // A saturated membrane oscillation (see kMaxSpeedRatio); scenes without a driving flow have no
+  // scale to compare with.
+  if (const double scale = cell_free_peak_speed(p); !cells_.empty() && scale > 0 && max_speed(u) > kMaxSpeedRatio * scale) {
+    std::ostringstream m;
+    m << "membrane oscillation: the fluid reaches " << max_speed(u) << " m/s, more than " << kMaxSpeedRatio
+      << " times the flow's own peak speed " << scale << " m/s" << when << ": the " << scene_.coupling
+      << " coupling is unstable at this dt; lower [time] dt";
+    throw RunFailure(m.str());
+  }
   const double l0 = model_.rest_length();
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     const std::string cell = "cell " + std::to_string(k);

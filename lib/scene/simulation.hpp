@@ -21,6 +21,14 @@ struct RunFailure : std::runtime_error {
 // Largest spring strain |l − l0|/l0 a healthy run may show; beyond it the explicit coupling has
 // gone unstable (the study's cells stay within a few per cent).
 inline constexpr double kMaxMembraneStrain = 1.0;
+// Largest fluid speed a healthy run with cells may show, in units of the driving flow's own
+// scale (the cell-free peak speed, or the wall speed). An unstable membrane coupling can saturate
+// below the CFL and strain limits: measured 2026-11-23, the explicit coupling just above its
+// limit ran for 0.1 ms with the fluid at 5.9-18 times the flow's peak speed and 5-25 % strain
+// (one cell, wide channel, 9e-8 s; 100 cells, 7.5e-8 s; one cell, narrow channel, 6.5e-8 s: an
+// episode of 40 us); calm runs of both couplings — 1 to 100 cells, Re0 = 0.01 to 50, Hct 34 %,
+// 6e-6 s semi-implicit — stayed at 0.78-1.00 times it.
+inline constexpr double kMaxSpeedRatio = 3.0;
 
 class Simulation {
  public:
