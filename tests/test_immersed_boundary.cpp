@@ -115,36 +115,42 @@ TEST(ExplicitCoupling, EllipticalMembraneRelaxesTowardACircleOfTheSameArea) {
   EXPECT_LT(std::abs(enclosed_area(cells[0].nodes) / c.prepared_area - 1), 5e-3);
 }
 
+// The study's narrow channel (Re0 = 0.5556) on mesh h with one s* = 0.55 cell at (5, 3) um, run
+// explicitly from rest for the given steps of dt; the message of the RunFailure that stopped it,
+// or "" if it ran.
+std::string failure_of_narrow_run(double h, double dt, long steps) {
+  Scene s;
+  s.source = "test";
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = h;
+  s.reynolds0 = 0.5556;
+  s.dt = dt;
+  s.end = steps * dt;
+  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  Simulation sim(s);
+  try {
+    for (long n = 0; n < steps; ++n) {
+      sim.step();
+      sim.check_health();
+    }
+  } catch (const RunFailure& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(ExplicitCoupling, TimeStepAboveTheStabilityLimitStopsTheRunNamingTheCause) {
   // Measured (commit of this test): the study's narrow channel, one s* = 0.55 cell, SI reading,
   // area penalty on, is stable at Δt = 3.0e-8 s and unstable from 3.3e-8 s by the CFL and strain
   // checks (2.62e-8 / 3.0e-8 s with the speed check of 2026-11-23, stability map). At 1e-7 s the run
   // must stop within 100 steps with a message naming the cause.
-  Scene s;
-  s.source = "test";
-  s.length = 20e-6;
-  s.height = 10e-6;
-  s.mesh_size = 0.125e-6;
-  s.reynolds0 = 0.5556;
-  s.dt = 1e-7;
-  s.end = 1e-5;
-  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
-  Simulation sim(s);
-  std::string message;
-  try {
-    for (int n = 0; n < 100; ++n) {
-      sim.step();
-      sim.check_health();
-    }
-  } catch (const RunFailure& e) {
-    message = e.what();
-  }
+  const std::string message = failure_of_narrow_run(0.125e-6, 1e-7, 100);
   ASSERT_FALSE(message.empty()) << "the unstable run was not stopped";
   const bool named = message.find("membrane") != std::string::npos || message.find("non-finite") != std::string::npos;
   EXPECT_TRUE(named) << message;
   EXPECT_NE(message.find("t = "), std::string::npos) << message;
 }
-
 
 TEST(ExplicitCoupling, AMembraneOscillationBelowTheCflAndStrainLimitsStopsTheRun) {
   // Measured (2026-11-23): the study's narrow channel on h = 0.25 um, one s* = 0.55 cell from
@@ -152,28 +158,8 @@ TEST(ExplicitCoupling, AMembraneOscillationBelowTheCflAndStrainLimitsStopsTheRun
   // the flow's peak is 0.1 m/s; 4.7 % strain: below CFL 1 and strain 1) and then settles; at
   // 6e-8 s the fluid stays below the peak (0.098 m/s) over 0.1 ms. The first must stop, naming
   // the oscillation; the second must run.
-  auto run = [](double dt) {
-    Scene s;
-    s.source = "test";
-    s.length = 20e-6;
-    s.height = 10e-6;
-    s.mesh_size = 0.25e-6;
-    s.reynolds0 = 0.5556;
-    s.dt = dt;
-    s.end = 1e-4;
-    s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
-    Simulation sim(s);
-    try {
-      for (long n = 0; n < std::lround(s.end / dt); ++n) {
-        sim.step();
-        sim.check_health();
-      }
-    } catch (const RunFailure& e) {
-      return std::string(e.what());
-    }
-    return std::string();
-  };
-  const std::string oscillating = run(6.5e-8), calm = run(6e-8);
+  const std::string oscillating = failure_of_narrow_run(0.25e-6, 6.5e-8, std::lround(1e-4 / 6.5e-8));
+  const std::string calm = failure_of_narrow_run(0.25e-6, 6e-8, std::lround(1e-4 / 6e-8));
   EXPECT_EQ(oscillating.rfind("membrane oscillation", 0), 0u) << oscillating;
   EXPECT_NE(oscillating.find("t = "), std::string::npos) << oscillating;
   EXPECT_EQ(calm, "");

@@ -131,6 +131,14 @@ Scene channel(double length, double height, double h, double reynolds0) {
   return s;
 }
 
+// n steps, each checked.
+void advance(Simulation& sim, long n) {
+  for (long k = 0; k < n; ++k) {
+    sim.step();
+    sim.check_health();
+  }
+}
+
 // Runs a scene to t_end; returns the cells.
 std::vector<Cell> run_to(Scene s, const std::string& coupling, double dt, double t_end, int substeps = 1) {
   s.coupling = coupling;
@@ -138,11 +146,7 @@ std::vector<Cell> run_to(Scene s, const std::string& coupling, double dt, double
   s.advection_substeps = substeps;
   s.end = t_end;
   Simulation sim(s);
-  const long n = std::lround(t_end / dt);
-  for (long k = 0; k < n; ++k) {
-    sim.step();
-    sim.check_health();
-  }
+  advance(sim, std::lround(t_end / dt));
   return sim.cells();
 }
 
@@ -224,6 +228,17 @@ TEST(SemiImplicitValidationExperiment, WideChannelFourCellsConvergeToTheExplicit
   }
 }
 
+// Three s* = 0.55 cells 5 um apart, long axis across the flow, in the narrow channel on mesh h;
+// semi-implicit, n steps of dt.
+Scene three_cells(double h, double dt, int n, int substeps) {
+  Scene s = channel(20e-6, 10e-6, h, 0.5556);
+  for (double x : {4e-6, 9e-6, 14e-6}) s.cells.push_back({{x, 4e-6}, 0.55, 1.5707963});
+  s.coupling = "semi-implicit";
+  s.dt = dt;
+  s.advection_substeps = substeps;
+  s.end = n * dt;
+  return s;
+}
 
 TEST(SemiImplicit, GmresGoingOnWithFreshBlocksGivesTheSameSteps) {
   // When GMRES does not converge with the blocks as they are, the blocks are rebuilt at the
@@ -236,19 +251,11 @@ TEST(SemiImplicit, GmresGoingOnWithFreshBlocksGivesTheSameSteps) {
   // the cells by far more). Measured: 1.4–2.0e-5 um (after 0) and 0.9–1.6e-5 um (after 2) of
   // 4.0–4.5 um moved, ≈ 4e-6 of it; with the first run's products kept (mutation) the run stopped
   // at step 4 (CFL 4.1: the membrane coupling went unstable).
-  Scene s = channel(20e-6, 10e-6, 0.25e-6, 0.5556);
-  for (double x : {4e-6, 9e-6, 14e-6}) s.cells.push_back({{x, 4e-6}, 0.55, 1.5707963});
-  s.coupling = "semi-implicit";
-  s.dt = 1e-6;
-  s.advection_substeps = 2;
-  s.end = 1.5e-4;
+  const Scene s = three_cells(0.25e-6, 1e-6, 150, 2);
   auto run = [&](int fresh_after) {
     Simulation sim(s);
     if (fresh_after >= 0) sim.semi_implicit_step()->set_fresh_blocks_after(fresh_after);
-    for (int k = 0; k < 150; ++k) {
-      sim.step();
-      sim.check_health();
-    }
+    advance(sim, 150);
     const long fresh = sim.semi_implicit_step()->cost().fresh_rebuilds;
     if (fresh_after == 0) {
       EXPECT_EQ(fresh, 150);  // every step
@@ -274,33 +281,22 @@ TEST(SemiImplicit, GmresGoingOnWithFreshBlocksGivesTheSameSteps) {
   }
 }
 
-
 TEST(SemiImplicit, ARunResumedWhileTheBlocksAreRebuiltSoonerTakesTheSameSteps) {
   // The rebuild interval, shortened after steps with fresh blocks and grown back later, is state:
   // a run saved and resumed in the middle of that must take the same steps bit for bit. Forced
   // here by fresh blocks after 1 iteration (three cells, coarse narrow channel, 40 steps of
   // 5e-7 s, saved after step 17). Checked by mutation: with the interval not restored on load,
   // the nodes differ.
-  Scene s = channel(20e-6, 10e-6, 0.5e-6, 0.5556);
-  for (double x : {4e-6, 9e-6, 14e-6}) s.cells.push_back({{x, 4e-6}, 0.55, 1.5707963});
-  s.coupling = "semi-implicit";
-  s.dt = 5e-7;
-  s.end = 40 * s.dt;
-  auto steps = [](Simulation& sim, int n) {
-    for (int k = 0; k < n; ++k) {
-      sim.step();
-      sim.check_health();
-    }
-  };
+  const Scene s = three_cells(0.5e-6, 5e-7, 40, 1);
   Simulation straight(s);
   straight.semi_implicit_step()->set_fresh_blocks_after(1);
-  steps(straight, 40);
+  advance(straight, 40);
   const std::string path = (std::filesystem::temp_directory_path() / "rbcflow_fresh_blocks_checkpoint.bin").string();
   long fresh_before = 0;
   {
     Simulation first(s);
     first.semi_implicit_step()->set_fresh_blocks_after(1);
-    steps(first, 17);
+    advance(first, 17);
     fresh_before = first.semi_implicit_step()->cost().fresh_rebuilds;
     CheckpointWriter w;
     first.save(w);
@@ -310,7 +306,7 @@ TEST(SemiImplicit, ARunResumedWhileTheBlocksAreRebuiltSoonerTakesTheSameSteps) {
   resumed.semi_implicit_step()->set_fresh_blocks_after(1);
   CheckpointReader r(path);
   resumed.load(r);
-  steps(resumed, 23);
+  advance(resumed, 23);
   EXPECT_GT(fresh_before, 0);
   EXPECT_GT(resumed.semi_implicit_step()->cost().fresh_rebuilds, 0);
   for (std::size_t c = 0; c < s.cells.size(); ++c)

@@ -48,12 +48,7 @@ void DivergenceStencil::apply(const std::vector<double>& u1, const std::vector<d
       out[i] = d;
     };
     node(0, nx - 1);
-    if (j == 0)
-      for (int i = 1; i < nx; ++i) out[i] = 0.0 + (L[i] + L[i - 1] + U[i - 1]);
-    else if (j == ny)
-      for (int i = 1; i < nx; ++i) out[i] = 0.0 + (Ld[i] + Ud[i - 1] + Ud[i]);
-    else
-      for (int i = 1; i < nx; ++i) out[i] = (0.0 + (L[i] + L[i - 1] + U[i - 1])) + (Ld[i] + Ud[i - 1] + Ud[i]);
+    for (int i = 1; i < nx; ++i) node(i, i - 1);
   }
   // Restriction to T_2h: weight 1 at (2I, 2J), 1/2 at (±1, 0), (0, ±1), (−1, +1), (+1, −1).
   const int pnx = m_.pnx(), pny = m_.pny();
@@ -73,14 +68,7 @@ void DivergenceStencil::apply(const std::vector<double>& u1, const std::vector<d
       out[I] = s;
     };
     restrict_at(0, 1, nx - 1);  // nx is even: only I = 0 wraps (to the left)
-    if (below && above)
-      for (int I = 1; I < pnx; ++I) {
-        const int i = 2 * I;
-        out[I] = ((row[i] + 0.5 * (row[i + 1] + row[i - 1])) + 0.5 * (below[i] + below[i + 1])) +
-                 0.5 * (above[i] + above[i - 1]);
-      }
-    else
-      for (int I = 1; I < pnx; ++I) restrict_at(I, 2 * I + 1, 2 * I - 1);
+    for (int I = 1; I < pnx; ++I) restrict_at(I, 2 * I + 1, 2 * I - 1);
   }
 }
 

@@ -22,7 +22,7 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
-      work_(flow.mesh()){}
+      work_(flow.mesh()) {}
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {

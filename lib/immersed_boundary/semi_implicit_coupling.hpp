@@ -126,8 +126,8 @@ class SemiImplicitMembraneStep {
   int steps_since_rebuild_ = 0;
   int refresh_steps_ = kBlockRefreshSteps;  // the blocks' current rebuild interval (see implicit_correction)
   bool rebuild_now_ = false;                // rebuild at the next step
-  bool fresh_in_step_ = false;
-  int fresh_blocks_after_ = kFreshBlocksAfter;              // this step's GMRES rebuilt the blocks at its own nodes
+  bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes
+  int fresh_blocks_after_ = kFreshBlocksAfter;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.

@@ -48,7 +48,8 @@ void Simulation::check_health() const {
   const std::string when = s.str();
   if (!all_finite(u)) throw RunFailure("non-finite velocity" + when);
   const ChannelFlowParams& p = flow_.params();
-  const double cfl = max_speed(u) * p.dt / (p.advection_substeps * p.mesh_size);
+  const double speed = max_speed(u);
+  const double cfl = speed * p.dt / (p.advection_substeps * p.mesh_size);
   if (cfl > 1.0) {
     std::ostringstream m;
     m << "CFL: the advective CFL number " << cfl << " exceeds the wave-like step's stability limit 1" << when;
@@ -58,9 +59,9 @@ void Simulation::check_health() const {
   }
   // A saturated membrane oscillation (see kMaxSpeedRatio); scenes without a driving flow have no
   // scale to compare with.
-  if (const double scale = cell_free_peak_speed(p); !cells_.empty() && scale > 0 && max_speed(u) > kMaxSpeedRatio * scale) {
+  if (const double scale = cell_free_peak_speed(p); !cells_.empty() && scale > 0 && speed > kMaxSpeedRatio * scale) {
     std::ostringstream m;
-    m << "membrane oscillation: the fluid reaches " << max_speed(u) << " m/s, more than " << kMaxSpeedRatio
+    m << "membrane oscillation: the fluid reaches " << speed << " m/s, more than " << kMaxSpeedRatio
       << " times the flow's own peak speed " << scale << " m/s" << when << ": the " << scene_.coupling
       << " coupling is unstable at this dt; lower [time] dt";
     throw RunFailure(m.str());
