@@ -24,7 +24,8 @@ struct CheckpointError : std::runtime_error {
 };
 
 // 2: the semi-implicit coupling also keeps the right-hand sides of its last two steps.
-inline constexpr std::uint32_t kCheckpointFormat = 2;
+// 3: the simulation also keeps the time its fluid has spent above the speed limit (check_health).
+inline constexpr std::uint32_t kCheckpointFormat = 3;
 
 class CheckpointWriter {
  public:
