@@ -167,6 +167,34 @@ TEST(ExplicitCoupling, AMembraneOscillationBelowTheCflAndStrainLimitsStopsTheRun
   EXPECT_EQ(calm, "");
 }
 
+TEST(ExplicitCoupling, AShortViolentBurstStopsTheRunAtOnce) {
+  // Measured (2026-11-23): narrow channel, h = 0.5 um, k_l × 100, one cell from rest at
+  // Δt = 1.14e-8 s: the fluid reaches 336 times the flow's peak speed for 9.2 ρh²/μ (1.9 us, from
+  // 0.58 us), then calms down. Too short for the time above kMaxSpeedRatio; it must stop anyway.
+  Scene s;
+  s.source = "test";
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = 0.5e-6;
+  s.reynolds0 = 0.5556;
+  s.dt = 1.14e-8;
+  s.end = 1e-5;
+  s.membrane_constants.kl *= 100;
+  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  Simulation sim(s);
+  std::string failure;
+  try {
+    while (sim.time() < 1e-5) {
+      sim.step();
+      sim.check_health();
+    }
+  } catch (const RunFailure& e) {
+    failure = e.what();
+  }
+  EXPECT_EQ(failure.rfind("membrane oscillation", 0), 0u) << failure;
+  EXPECT_NE(failure.find("more than 10 times"), std::string::npos) << failure;
+}
+
 TEST(ExplicitCoupling, AStiffCellsStartUpPulseDoesNotStopTheRun) {
   // Measured (2026-11-23): the narrow channel on h = 0.125 um, one s* = 1 cell under the CGS
   // reading, from rest at Δt = 1.2e-9 s (single_cell_migration's case): the released membrane

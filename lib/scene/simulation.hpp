@@ -34,8 +34,12 @@ inline constexpr double kMaxSpeedRatio = 3.0;
 // times for 0.76-1.2 ρh²/μ (Δt = 3e-10 to 1.2e-9 s: one smooth pulse that does not depend on Δt;
 // ρh²/μ is the fluid's viscous time across a mesh cell), while the oscillations above stayed
 // beyond 3 times for 530 (narrow), 1191 (wide, one cell) and 747 ρh²/μ (100 cells). So a run
-// stops once its fluid has spent, in all, kSpeedExcessViscousTimes × ρh²/μ above kMaxSpeedRatio.
+// stops once its fluid has spent, in all, kSpeedExcessViscousTimes × ρh²/μ above kMaxSpeedRatio,
+// or at once beyond kBurstSpeedRatio: an explicit membrane blowing up can calm down again within
+// that time (narrow channel, h = 0.5 um, k_l × 10 and × 100 from rest at Δt = 3.97e-8 and
+// 1.14e-8 s: 111 and 336 times the peak for 7.4 and 9.2 ρh²/μ), far beyond any start-up pulse.
 inline constexpr double kSpeedExcessViscousTimes = 20.0;
+inline constexpr double kBurstSpeedRatio = 10.0;
 
 class Simulation {
  public:
