@@ -87,11 +87,15 @@ static void bench_cells() {
   // semi-implicit coupling's preconditioner go stale (from rest its GMRES needs ≈ 2 fewer
   // products per step over the first 100 steps). The cell-free row stays uniform in x1, so its
   // projection has nothing to do: a lower bound, not the cost of a 2D flow (the table above is).
-  // The last row: 100 cells at 4e-6 s with Q = 4 (advective bound 6.25e-6 s; 67 times the explicit
-  // step): a larger step costs more per step but less per simulated ms.
+  // 100 cells also at 1.2e-6 s, 20 times their explicit step: issue 4's target asks for at most 3
+  // times the explicit cost per step at a step at least 20 times the explicit limit, and smaller
+  // steps cost less per step (measured: 4.4 products per step against 5.8 at 2e-6 s). The last
+  // row: 100 cells at 4e-6 s with Q = 4 (advective bound 6.25e-6 s; 67 times the explicit step):
+  // a larger step costs more per step but less per simulated ms.
   struct Case { int cells; const char* coupling; double dt; int substeps; };
   const Case cases[] = {{0, "explicit", 8e-8, 2},   {1, "explicit", 8e-8, 2},        {1, "semi-implicit", 2e-6, 2},
-                        {100, "explicit", 6e-8, 2}, {100, "semi-implicit", 2e-6, 2}, {100, "semi-implicit", 4e-6, 4}};
+                        {100, "explicit", 6e-8, 2}, {100, "semi-implicit", 1.2e-6, 2},
+                        {100, "semi-implicit", 2e-6, 2}, {100, "semi-implicit", 4e-6, 4}};
   for (const Case& k : cases) {
     const int cells = k.cells;
     const char* coupling = k.coupling;
