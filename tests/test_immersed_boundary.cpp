@@ -120,7 +120,8 @@ TEST(ExplicitCoupling, EllipticalMembraneRelaxesTowardACircleOfTheSameArea) {
 // The study's narrow channel (Re0 = 0.5556) on mesh h with one s* = 0.55 cell at (5, 3) um, run
 // explicitly from rest for the given steps of dt; the message of the RunFailure that stopped it,
 // or "" if it ran.
-std::string failure_of_narrow_run(double h, double dt, long steps) {
+// The study's narrow channel, one s* = 0.55 cell from (5, 3) um, SI reading, for `steps` steps.
+Scene narrow_scene(double h, double dt, long steps) {
   Scene s;
   s.source = "test";
   s.length = 20e-6;
@@ -130,10 +131,18 @@ std::string failure_of_narrow_run(double h, double dt, long steps) {
   s.dt = dt;
   s.end = steps * dt;
   s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
+  return s;
+}
+
+// Runs the scene to its end with the health check after every step: the message that stopped
+// it ("" if none); the largest fluid speed seen (m/s) in *fastest if given.
+std::string failure_of(const Scene& s, double* fastest = nullptr) {
   Simulation sim(s);
+  const long steps = std::lround(s.end / s.dt);
   try {
     for (long n = 0; n < steps; ++n) {
       sim.step();
+      if (fastest) *fastest = std::max(*fastest, max_speed(sim.flow().velocity()));
       sim.check_health();
     }
   } catch (const RunFailure& e) {
@@ -141,6 +150,8 @@ std::string failure_of_narrow_run(double h, double dt, long steps) {
   }
   return "";
 }
+
+std::string failure_of_narrow_run(double h, double dt, long steps) { return failure_of(narrow_scene(h, dt, steps)); }
 
 TEST(ExplicitCoupling, TimeStepAboveTheStabilityLimitStopsTheRunNamingTheCause) {
   // Measured (commit of this test): the study's narrow channel, one s* = 0.55 cell, SI reading,
@@ -171,26 +182,9 @@ TEST(ExplicitCoupling, AShortViolentBurstStopsTheRunAtOnce) {
   // Measured (2026-11-23): narrow channel, h = 0.5 um, k_l × 100, one cell from rest at
   // Δt = 1.14e-8 s: the fluid reaches 336 times the flow's peak speed for 9.2 ρh²/μ (1.9 us, from
   // 0.58 us), then calms down. Too short for the time above kMaxSpeedRatio; it must stop anyway.
-  Scene s;
-  s.source = "test";
-  s.length = 20e-6;
-  s.height = 10e-6;
-  s.mesh_size = 0.5e-6;
-  s.reynolds0 = 0.5556;
-  s.dt = 1.14e-8;
-  s.end = 1e-5;
+  Scene s = narrow_scene(0.5e-6, 1.14e-8, std::lround(1e-5 / 1.14e-8));
   s.membrane_constants.kl *= 100;
-  s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
-  Simulation sim(s);
-  std::string failure;
-  try {
-    while (sim.time() < 1e-5) {
-      sim.step();
-      sim.check_health();
-    }
-  } catch (const RunFailure& e) {
-    failure = e.what();
-  }
+  const std::string failure = failure_of(s);
   EXPECT_EQ(failure.rfind("membrane oscillation", 0), 0u) << failure;
   EXPECT_NE(failure.find("more than 10 times"), std::string::npos) << failure;
 }
@@ -202,31 +196,12 @@ TEST(ExplicitCoupling, AStiffCellsStartUpPulseDoesNotStopTheRun) {
   // 17 ns (1.2 ρh²/μ), and the pulse is over by 40 ns; the same pulse at 6e-10 and 3e-10 s. It is
   // no oscillation, and the run must go on through it (it stopped at step 2 before the speed
   // check counted the time spent above its limit).
-  Scene s;
-  s.source = "test";
-  s.length = 20e-6;
-  s.height = 10e-6;
-  s.mesh_size = 0.125e-6;
-  s.reynolds0 = 0.5556;
-  s.dt = 1.2e-9;
-  s.end = 50 * s.dt;
+  Scene s = narrow_scene(0.125e-6, 1.2e-9, 50);
   s.membrane_constants.units = "cgs";
-  s.cells.push_back({{5e-6, 3e-6}, 1.0, 0.0});
-  Simulation sim(s);
-  const double peak = cell_free_peak_speed(sim.flow().params());
+  s.cells[0].swelling_ratio = 1.0;
   double fastest = 0;
-  std::string failure;
-  try {
-    for (int n = 0; n < 50; ++n) {
-      sim.step();
-      fastest = std::max(fastest, max_speed(sim.flow().velocity()));
-      sim.check_health();
-    }
-  } catch (const RunFailure& e) {
-    failure = e.what();
-  }
-  EXPECT_EQ(failure, "");
-  EXPECT_GT(fastest, kMaxSpeedRatio * peak) << "the pulse this test is about did not happen";
+  EXPECT_EQ(failure_of(s, &fastest), "");
+  EXPECT_GT(fastest, kMaxSpeedRatio * cell_free_peak_speed(s.flow_params())) << "the pulse this test is about did not happen";
 }
 
 }  // namespace
