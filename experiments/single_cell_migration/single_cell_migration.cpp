@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "io/csv.hpp"
+#include "mesh/channel_mesh.hpp"
 
 namespace rbc::single_cell_migration {
 
@@ -81,9 +82,8 @@ void write_centred_snapshots(const fs::path& in_path, const fs::path& out_path) 
 // 68 min for this order (both schedules worked out from the run times measured in that run).
 constexpr double kSemiImplicitStepCost = 3.2;
 double estimated_work(const Scene& s) {
-  const double steps = std::round(s.end / s.dt);
-  const double nodes = std::round(s.length / s.mesh_size) * std::round(s.height / s.mesh_size);
-  return steps * nodes * (s.coupling == "semi-implicit" ? kSemiImplicitStepCost : 1.0);
+  const double nodes = double(ChannelMesh::make(s.length, s.height, s.mesh_size).velocity_nodes());
+  return std::round(s.end / s.dt) * nodes * (s.coupling == "semi-implicit" ? kSemiImplicitStepCost : 1.0);
 }
 
 double value_at(const std::vector<double>& t, const std::vector<double>& v, double when) {
@@ -357,8 +357,10 @@ Results run(const Params& p) {
     for (double s : p.other_swelling_ratios)
       for (const std::string& u : {p.units, p.other_units}) {
         const Case& c = res.cases.at("narrow_" + u + "_" + tag(s));
-        if (!c.failure.empty()) {
-          ev << "| " << std::to_string(s).substr(0, 4) << " | " << u << " | run stopped: " << c.failure << " | | |\n";
+        if (!c.failure.empty()) {  // the row says why it has no numbers
+          char row[64];
+          std::snprintf(row, sizeof row, "| %.2f | %s | run stopped: ", s, u.c_str());
+          ev << row << c.failure << " | | |\n";
           continue;
         }
         // The chosen reading ran longer: read its state at the other's end from the snapshots'
