@@ -203,6 +203,7 @@ void SemiImplicitMembraneStep::rebuild_blocks(const std::vector<Cell>& cells, bo
   // Several cells: each block built where the cell's nodes will be halfway to the next rebuild
   // (moving on with the last step's velocities), then used for refresh_steps_ steps.
   const int ncells = int(cells.size());
+  mobility_.prepare_phase_average(phase_average_extent(model_));
   const bool move = ahead && kBuildAhead && last_U_.size() == offset_[ncells];
   block_nodes_.resize(ncells);
 #pragma omp parallel for schedule(dynamic)
@@ -255,7 +256,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     build_block(0, cells[0].nodes, cells[0].target_area);
     ++cost_.block_builds;
   } else if (int(block_nodes_.size()) != ncells || rebuild_now_ || steps_since_rebuild_ >= refresh_steps_) {
-    if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(kBlockRefreshSteps, refresh_steps_ + 1);
+    if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(max_refresh_steps_, refresh_steps_ + 1);
     rebuild_now_ = false;
     rebuild_blocks(cells, true);
   } else {
@@ -307,10 +308,14 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
 }
 
 void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area) {
-  // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r).
+  // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r); with
+  // several cells M̄_cc, M averaged over the cell's phase on the grid along x1 (step_mobility.hpp).
   const MembraneStiffness K = membrane_stiffness(model_, r, target_area);
   Eigen::MatrixXd M;
-  mobility_.matrix(r, M);
+  if (several_)
+    mobility_.phase_averaged_matrix(r, M);  // a preconditioner that a cell carried along x1 keeps
+  else
+    mobility_.matrix(r, M);
   Eigen::MatrixXd B = dt_ * K.right_multiply(M);
   B.diagonal().array() += 1.0;
   if (several_)
@@ -346,9 +351,9 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
       throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
   steps_since_rebuild_ = int(r.get_int());
   refresh_steps_ = int(r.get_int());
-  if (refresh_steps_ < 1 || refresh_steps_ > kBlockRefreshSteps)
+  if (refresh_steps_ < 1 || refresh_steps_ > max_refresh_steps_)
     throw CheckpointError(r.path() + ": preconditioner refresh interval " + std::to_string(refresh_steps_) + " out of range [1, " +
-                          std::to_string(kBlockRefreshSteps) + "]");
+                          std::to_string(max_refresh_steps_) + "]");
   rebuild_now_ = r.get_int() != 0;
   last_iterations_ = int(r.get_int());
   const std::int64_t nblocks = r.get_int();
@@ -360,6 +365,7 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
     block_nodes_[c] = r.get_points(cells[c].nodes.size(), "the nodes of a preconditioner block");
   // The blocks as the uninterrupted run has them (built from the same nodes the same way).
   several_ = cells.size() > 1;
+  if (several_ && !block_nodes_.empty()) mobility_.prepare_phase_average(phase_average_extent(model_));
   blocks_.resize(block_nodes_.size());
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area);

@@ -30,6 +30,7 @@
 // cost at 100 cells; the interval shortens by itself when GMRES needs many iterations, as at
 // larger Δt), and kept in single precision (their triangular solves stream half the memory;
 // GMRES corrects the rest).
+#include <algorithm>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -82,18 +83,22 @@ class SemiImplicitMembraneStep {
   static constexpr int kRebuildAboveIterations = 12;
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
-  // Several cells: preconditioner blocks rebuilt every 10 steps at most (see refresh_steps_).
-  // Measured (100 cells, wide grid, 2e-6 s): the iterations climb from 3 to 7-8 within 10 steps
-  // of a rebuild. What goes stale is M_cc, not K_c nor the cell's rotation: a block built 0.27 h
-  // upstream of where the cell is gives ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown), the same
-  // block with the old K and the new M 4e-4 — the grid-scale part of the mobility depends on
-  // where the nodes sit on the grid.
-  // So blocks are built where the nodes will be halfway to the next rebuild (kBuildAhead: 6.2 →
-  // 5.5 products per step from rest, 7.4 → 7.0 in the developed flow). Rebuilding every 6, 15,
-  // 16, 20 or 24 steps cost more than every 10, and rebuilding when the iterations had grown by 2
-  // (every ~7 steps) too (paper/method/04_semi_implicit_coupling.md). With the start of
-  // solve_coupled, 8 and 12 steps were no better than 10 either (5.6 and 6.0 products against 5.8).
-  static constexpr int kBlockRefreshSteps = 10;
+  // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
+  void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
+  // Several cells: preconditioner blocks rebuilt every 20 steps at most (see refresh_steps_).
+  // What made blocks of the exact M go stale within a few steps was the grid phase: a block of M
+  // built 0.27 h upstream of where the cell is gave ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown),
+  // the same block with the old K and the new M 4e-4 (100 cells, wide grid, 2e-6 s: iterations
+  // from 3 to 7-8 within 10 steps of a rebuild). The blocks are therefore built from M̄, M
+  // averaged over the cell's phase along x1 (step_mobility.hpp), which a cell carried by the
+  // flow keeps; what still ages them is the cells deforming, turning and drifting across.
+  // Measured, 100 cells in the developed flow, 300 steps, products per step for a rebuild every
+  // 5 / 10 / 15 / 20 / 30 steps: 3.32 / 3.35 / 3.39 / 3.42 / 3.71 at 1.2e-6 s and 4.04 / 4.20 /
+  // 4.33 / 4.53 / 4.77 at 2e-6 s, against 4.1-4.5 at 1.2e-6 s and 5.8 at 2e-6 s with blocks of
+  // M every 10 steps; counting the builds, 20 steps cost least at 1.2e-6 s and 15-20 at 2e-6 s
+  // (paper/method/04_semi_implicit_coupling.md). Blocks are still built where the nodes will be
+  // halfway to the next rebuild (kBuildAhead).
+  static constexpr int kBlockRefreshSteps = 20;
 
  private:
   ChannelFlow& flow_;
@@ -124,6 +129,7 @@ class SemiImplicitMembraneStep {
   Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
   int last_iterations_ = 0;
   int steps_since_rebuild_ = 0;
+  int max_refresh_steps_ = kBlockRefreshSteps;
   int refresh_steps_ = kBlockRefreshSteps;  // the blocks' current rebuild interval (see implicit_correction)
   bool rebuild_now_ = false;                // rebuild at the next step
   bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes

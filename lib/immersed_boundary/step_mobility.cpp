@@ -1,10 +1,13 @@
 #include "immersed_boundary/step_mobility.hpp"
 
 #include <algorithm>
+#include <cmath>
 
+#include <gsl/gsl_integration.h>
 #include <omp.h>
 
 #include "immersed_boundary/immersed_boundary.hpp"
+#include "immersed_boundary/peskin_delta.hpp"
 
 namespace rbc {
 
@@ -34,6 +37,134 @@ StepMobility::StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion
               entry(j, js, (i - parity + nx) % nx)[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
         }
       }
+}
+
+double peskin_autocorrelation(double z) {
+  // φ(τ) φ(τ + z) is smooth between the points where τ or τ + z is an integer: Gauss–Legendre
+  // (8 points) on each such piece of the common support [−2, 2 − |z|] is exact to round-off.
+  z = std::abs(z);
+  if (z >= 4.0) return 0.0;
+  static const gsl_integration_glfixed_table* rule = gsl_integration_glfixed_table_alloc(8);
+  std::vector<double> cuts = {-2.0, 2.0 - z};
+  for (int i = -1; i <= 1; ++i) {
+    if (i > -2.0 && i < 2.0 - z) cuts.push_back(i);
+    if (i - z > -2.0 && i - z < 2.0 - z) cuts.push_back(i - z);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  double sum = 0.0;
+  for (std::size_t c = 0; c + 1 < cuts.size(); ++c)
+    for (std::size_t i = 0; i < 8; ++i) {
+      double t, w;
+      gsl_integration_glfixed_point(cuts[c], cuts[c + 1], i, &t, &w, rule);
+      sum += w * peskin_phi(t) * peskin_phi(t + z);
+    }
+  return sum;
+}
+
+void StepMobility::averaged_kernel(int j, int js, double z, double out[4]) const {
+  // H(j, j', z) = Σ_d c(d − z) T̄(d, j, j'), |d − z| < 4.
+  for (int v = 0; v < 4; ++v) out[v] = 0.0;
+  for (int d = int(std::ceil(z - 4.0)); d <= int(std::floor(z + 4.0)); ++d) {
+    const double c = 0.5 * peskin_autocorrelation(d - z);
+    const double* g = entry(j, js, ((d % m_.nx) + m_.nx) % m_.nx);
+    for (int v = 0; v < 4; ++v) out[v] += c * (g[v] + g[4 + v]);
+  }
+}
+
+std::size_t StepMobility::phase_average_bytes(const ChannelMesh& mesh, double extent) {
+  const int reach = int(std::ceil(extent / mesh.h)) + 4;  // + the stencils' reach
+  const std::size_t J = std::min(mesh.ny - 2, reach), Z = std::min(mesh.nx / 2, reach);
+  return std::size_t(mesh.ny - 1) * (2 * J + 1) * (2 * Z * kPhaseSamples + 1) * 4 * sizeof(float);
+}
+
+void StepMobility::prepare_phase_average(double extent) {
+  if (extent == extent_) return;
+  const int reach = int(std::ceil(extent / m_.h)) + 4, m = kPhaseSamples, nx = m_.nx;
+  J_ = std::min(rows_ - 1, reach);
+  Z_ = std::min(nx / 2, reach);
+  const int W = 2 * J_ + 1, S = 2 * Z_ * m + 1;
+  // c at the multiples of 1/m (every d − z that a sample z meets).
+  std::vector<double> c(8 * m + 1);
+  for (int k = -4 * m; k <= 4 * m; ++k) c[k + 4 * m] = 0.5 * peskin_autocorrelation(double(k) / m);
+  H_.assign(std::size_t(rows_) * W * S * 4, 0.0f);
+#pragma omp parallel for schedule(dynamic)
+  for (int j = 0; j < rows_; ++j)
+    for (int js = std::max(0, j - J_); js <= std::min(rows_ - 1, j + J_); ++js) {
+      for (int s = 0; s < S; ++s) {
+        float* out = &H_[((std::size_t(j) * S + s) * W + (js - j + J_)) * 4];
+        // z = (s − Z m)/m; d − z = (d m − s + Z m)/m = k/m with |k| < 4m.
+        const int zm = s - Z_ * m;
+        double acc[4] = {0, 0, 0, 0};
+        for (int d = (zm - 4 * m) / m - 1; d <= (zm + 4 * m) / m + 1; ++d) {
+          const int k = d * m - zm;
+          if (k <= -4 * m || k >= 4 * m) continue;
+          const double* g = entry(j, js, ((d % nx) + nx) % nx);
+          for (int v = 0; v < 4; ++v) acc[v] += c[k + 4 * m] * (g[v] + g[4 + v]);
+        }
+        for (int v = 0; v < 4; ++v) out[v] = float(acc[v]);
+      }
+    }
+  extent_ = extent;
+}
+
+void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) const {
+  const int n = int(r.size()), nx = m_.nx, m = kPhaseSamples, W = 2 * J_ + 1, S = 2 * Z_ * m + 1;
+  std::vector<int> row(n);  // interior row of each node's first stencil row
+  std::vector<double> wy(std::size_t(n) * 4), x(n);
+  for (int k = 0; k < n; ++k) {
+    row[k] = peskin_weights(r[k].y() / m_.h, &wy[4 * std::size_t(k)]) - 1;
+    x[k] = r[k].x() / m_.h;
+  }
+  M.resize(2 * n, 2 * n);
+#pragma omp parallel if (!omp_in_parallel())
+  {
+    std::vector<double> acc(std::size_t(n) * 4);  // row pair k of M: (l, 2α + β)
+    std::vector<int> sample(n);
+    std::vector<double> frac(n), zs(n);
+    std::vector<char> near(n);  // pair within the table's reach in x1
+#pragma omp for schedule(static)
+    for (int k = 0; k < n; ++k) {
+      for (int l = 0; l < n; ++l) {
+        double z = x[k] - x[l];
+        z -= nx * std::round(z / nx);  // the nearest periodic image
+        const double u = (z + Z_) * m;
+        zs[l] = z;
+        near[l] = std::abs(z) <= Z_;
+        sample[l] = std::clamp(int(u), 0, S - 2);
+        frac[l] = u - sample[l];
+      }
+      std::fill(acc.begin(), acc.end(), 0.0);
+      // Response row by row (j fixed in the inner loops: they stay in one slab of H).
+      for (int p = 0; p < 4; ++p) {
+        const int j = row[k] + p;
+        if (j < 0 || j >= rows_) continue;
+        const double wk = wy[4 * std::size_t(k) + p];
+        const float* slab = &H_[std::size_t(j) * W * S * 4];
+        for (int l = 0; l < n; ++l)
+          for (int q = 0; q < 4; ++q) {
+            const int js = row[l] + q;
+            if (js < 0 || js >= rows_) continue;
+            const double w = wk * wy[4 * std::size_t(l) + q];
+            double* a = &acc[4 * std::size_t(l)];
+            if (near[l] && std::abs(js - j) <= J_) {
+              const float* h = slab + (std::size_t(sample[l]) * W + (js - j + J_)) * 4;
+              const double f = frac[l];
+              for (int v = 0; v < 4; ++v) a[v] += w * (h[v] + f * (h[4 * W + v] - h[v]));
+            } else {  // beyond the table: the kernel from T (slow, rare)
+              double g[4];
+              averaged_kernel(j, js, zs[l], g);
+              for (int v = 0; v < 4; ++v) a[v] += w * g[v];
+            }
+          }
+      }
+      for (int l = 0; l < n; ++l) {
+        M(2 * k, 2 * l) = acc[4 * l];
+        M(2 * k, 2 * l + 1) = acc[4 * l + 1];
+        M(2 * k + 1, 2 * l) = acc[4 * l + 2];
+        M(2 * k + 1, 2 * l + 1) = acc[4 * l + 3];
+      }
+    }
+  }
 }
 
 void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {

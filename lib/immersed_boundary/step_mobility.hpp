@@ -21,6 +21,21 @@
 // of nodes then costs 64 multiply-adds per pair and per (node, footprint node), see matrix().
 // M equals the long way (spread, solve, P, interpolate) to the projection's tolerance — a test
 // checks it.
+//
+// Several cells' preconditioner blocks (semi_implicit_coupling.hpp) use M averaged over a shift
+// of all nodes together along x1, M̄(r) = (1/2h) ∫_0^{2h} M(r + s e1) ds. The grid-scale part of
+// M depends on where the nodes sit between mesh lines, and a cell carried by the flow crosses
+// them every few steps, so blocks built from M go stale as the cell moves; M̄ does not depend on
+// that phase (a cell carried along x1 keeps its M̄). With the x1 weights φ(i − x/h) and
+// T̄ = ½ Σ_{parity} T, the integral over s turns the two x1 weight sums into one kernel:
+//
+//   M̄_kl = Σ_{p,q} φ_y,k[p] φ_y,l[q] H(j_k + p, j_l + q, (x_k − x_l)/h),
+//   H(j, j', z) = Σ_d c(d − z) T̄(d, j, j'),   c(z) = ∫ φ(τ) φ(τ + z) dτ,
+//
+// where c is the autocorrelation of Peskin's φ (support |z| < 4, Σ_d c(d − z) = 1). H is
+// tabulated once (prepare_phase_average) for the row and x1 distances within one cell, at 1/8 h
+// in z, and read with linear interpolation (≈ 1e-3 of M̄, measured; the blocks are only a
+// preconditioner and in single precision).
 #include <vector>
 
 #include <Eigen/Dense>
@@ -32,12 +47,27 @@
 
 namespace rbc {
 
+// The distance within which the phase-averaged blocks read H from its table: 0.6 of a cell's
+// rest perimeter (two nodes of a cell are at most half the perimeter apart; 20 % for stretching).
+inline double phase_average_extent(const MembraneModel& m) { return 0.6 * m.nodes * m.rest_length(); }
+
+// c(z) = ∫ φ(τ) φ(τ + z) dτ for Peskin's 4-point φ (peskin_delta.hpp); zero for |z| ≥ 4.
+double peskin_autocorrelation(double z);
+
 class StepMobility {
  public:
   StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion, QuasiStokesProjection& projection, double rho, double dt);
   // M of the nodes r, 2N × 2N with unknowns (x_1, y_1, x_2, y_2, …), m/s per N/m.
   void matrix(const Points& r, Eigen::MatrixXd& M) const;
   std::size_t table_bytes() const { return table_.size() * sizeof(double); }
+  // Tabulates H for nodes at most extent (m) apart in x1 and in x2 (pairs further apart are
+  // computed from T directly, slowly). Idempotent for the same extent.
+  void prepare_phase_average(double extent);
+  // M̄ of the nodes r (see above), 2N × 2N, m/s per N/m. Needs prepare_phase_average.
+  void phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) const;
+  // Bytes of H for a mesh and extent (for the scene's memory check, before anything is built).
+  static std::size_t phase_average_bytes(const ChannelMesh& mesh, double extent);
+  static constexpr int kPhaseSamples = 8;  // samples of H per h in z
 
  private:
   // The 8 values (i' mod 2, α, β) at column offset di between rows j (response) and j' (source).
@@ -46,6 +76,11 @@ class StepMobility {
   ChannelMesh m_;
   int rows_;                   // interior rows ny − 1
   std::vector<double> table_;  // T at [((j' rows + j) nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]
+  // H(j, j', z) from T and c, for any z (4 values αβ).
+  void averaged_kernel(int j, int js, double z, double out[4]) const;
+  double extent_ = -1;       // of the current H table
+  int J_ = 0, Z_ = 0;        // H covers |j − j'| ≤ J_ and |z| ≤ Z_
+  std::vector<float> H_;     // H at [((j S + z sample) (2J+1) + j' − j + J) 4 + 2α + β], S = 2 Z kPhaseSamples + 1
 };
 
 }  // namespace rbc
