@@ -115,9 +115,9 @@ static void bench_cells() {
       const auto& c = si->cost();
       const double n = double(c.steps);
       std::printf("         per step (us): predictor %.0f, blocks %.0f (%.1f cell blocks built), coupled solve %.0f "
-                  "(%.1f products), correction %.0f; %ld steps, %ld with fresh blocks\n",
-                  c.predictor / n * 1e6, c.blocks / n * 1e6, c.block_builds / n, c.coupled / n * 1e6, c.products / n,
-                  c.correction / n * 1e6, c.steps, c.fresh_rebuilds);
+                  "(%.1f products: %.0f, preconditioner sweeps: %.0f), correction %.0f; %ld steps, %ld with fresh blocks\n",
+                  c.predictor / n * 1e6, c.blocks / n * 1e6, c.block_builds / n, c.coupled / n * 1e6, c.product_count / n,
+                  c.products / n * 1e6, c.preconditioner / n * 1e6, c.correction / n * 1e6, c.steps, c.fresh_rebuilds);
     }
   }
 }

@@ -31,6 +31,7 @@
 // larger Δt), and kept in single precision (their triangular solves stream half the memory;
 // GMRES corrects the rest).
 #include <algorithm>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -64,8 +65,9 @@ class SemiImplicitMembraneStep {
     double predictor = 0;  // P u⁰ and U⁰ = J P u⁰
     double blocks = 0;     // K of every cell; M_cc and the LU of the blocks when they are rebuilt
     double coupled = 0;    // GMRES: matrix-vector products (spread, solve, project, interpolate) and the rest
+    double products = 0, preconditioner = 0;  // of which the products and the preconditioner's sweeps
     double correction = 0; // spreading −Δt K U
-    long steps = 0, block_builds = 0, products = 0;
+    long steps = 0, block_builds = 0, product_count = 0;
     long fresh_rebuilds = 0;  // steps whose GMRES needed blocks built at their own nodes
   };
   const Cost& cost() const { return cost_; }
@@ -115,7 +117,11 @@ class SemiImplicitMembraneStep {
   struct Block {
     MembraneStiffness K;                  // the cell's stiffness
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;         // of I + Δt M_cc K_c: one cell (its whole system)
-    Eigen::PartialPivLU<Eigen::MatrixXf> lu_single;  // several cells (a preconditioner): the same in single precision
+    // Several cells (a preconditioner): the same factored in single precision, P B = L U, with
+    // L and U stored by columns in bfloat16 (see precondition), 1/U_ii in float and P as indices.
+    std::vector<std::uint16_t> lu_bf16;
+    std::vector<float> inverse_diagonal;
+    std::vector<int> permutation;  // row i of P B is row permutation[i] of B
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
@@ -142,7 +148,7 @@ class SemiImplicitMembraneStep {
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
   void build_block(int c, const Points& r, double target_area);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
-  Eigen::VectorXd precondition(const Eigen::VectorXd& v) const;
+  Eigen::VectorXd precondition(const Eigen::VectorXd& v);
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);
   Eigen::VectorXd gmres(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0, bool warm,
                         int max_it, double target, bool& converged);

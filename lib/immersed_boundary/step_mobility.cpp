@@ -140,12 +140,31 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
         if (j < 0 || j >= rows_) continue;
         const double wk = wy[4 * std::size_t(k) + p];
         const float* slab = &H_[std::size_t(j) * W * S * 4];
-        for (int l = 0; l < n; ++l)
+        for (int l = 0; l < n; ++l) {
+          double* a = &acc[4 * std::size_t(l)];
+          const int d = row[l] - j + J_;  // offset slot of the source's first row
+          if (near[l] && d >= 0 && d + 3 < W && row[l] >= 0 && row[l] + 3 < rows_) {
+            // The common case: the source's four rows are consecutive slots of H at the two
+            // samples around z, sixteen contiguous values each.
+            const float* h0 = slab + (std::size_t(sample[l]) * W + d) * 4;
+            const float* h1 = h0 + std::size_t(W) * 4;
+            const double f = frac[l];
+            const double* wl = &wy[4 * std::size_t(l)];
+            float b0[4], b1[4];
+            for (int q = 0; q < 4; ++q) {
+              b1[q] = float(wk * f * wl[q]);
+              b0[q] = float(wk * wl[q]) - b1[q];
+            }
+            float sum[4] = {0, 0, 0, 0};
+            for (int q = 0; q < 4; ++q)
+              for (int v = 0; v < 4; ++v) sum[v] += b0[q] * h0[4 * q + v] + b1[q] * h1[4 * q + v];
+            for (int v = 0; v < 4; ++v) a[v] += sum[v];
+            continue;
+          }
           for (int q = 0; q < 4; ++q) {
             const int js = row[l] + q;
             if (js < 0 || js >= rows_) continue;
             const double w = wk * wy[4 * std::size_t(l) + q];
-            double* a = &acc[4 * std::size_t(l)];
             if (near[l] && std::abs(js - j) <= J_) {
               const float* h = slab + (std::size_t(sample[l]) * W + (js - j + J_)) * 4;
               const double f = frac[l];
@@ -156,6 +175,7 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
               for (int v = 0; v < 4; ++v) a[v] += w * g[v];
             }
           }
+        }
       }
       for (int l = 0; l < n; ++l) {
         M(2 * k, 2 * l) = acc[4 * l];
