@@ -80,6 +80,8 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
   std::lock_guard<std::mutex> guard(fftw_planner_lock());
   real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
   spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
+  real2_ = fftw_alloc_real(std::size_t(nx_) * rows_);
+  spec2_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
   int n[] = {nx_};
   half_ = rows_ / 2;
   for (int h = 0; h < 2; ++h) {
@@ -98,11 +100,22 @@ PeriodicBandedSolver::~PeriodicBandedSolver() {
     if (p) fftw_destroy_plan(p);
   fftw_free(real_);
   fftw_free(spec_);
+  fftw_free(real2_);
+  fftw_free(spec2_);
 }
 
-void PeriodicBandedSolver::solve(const double* b, double* x) {
+void PeriodicBandedSolver::solve(const double* b, double* x) { solve_fields(1, &b, &x); }
+
+void PeriodicBandedSolver::solve_pair(const double* b1, const double* b2, double* x1, double* x2) {
+  const double* b[2] = {b1, b2};
+  double* x[2] = {x1, x2};
+  solve_fields(2, b, x);
+}
+
+void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, double* const* x) {
   const std::size_t size = std::size_t(nx_) * rows_;
-  double* s = &spec_[0][0];
+  double* real[2] = {real_, real2_};
+  double* spec[2] = {&spec_[0][0], &spec2_[0][0]};
   const int w = 2 * band_ + 1;
   const double scale = 1.0 / nx_;
   // Values [first, last) of row half h.
@@ -111,26 +124,30 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
 #pragma omp parallel if (!omp_in_parallel() && size >= kParallelSize)
   {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-    // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec_[j * nk_ + k].
+    // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec[j * nk_ + k]. Each half
+    // of each field is transformed by the half's own plan, on the field's own arrays.
 #pragma omp for schedule(static)
-    for (int h = 0; h < 2; ++h) {
+    for (int task = 0; task < 2 * fields; ++task) {
+      const int h = task % 2, f = task / 2;
       if (!forward_[h]) continue;
       const auto [first, last] = half(h);
-      std::memcpy(real_ + first, b + first, sizeof(double) * (last - first));
-      fftw_execute(forward_[h]);
+      std::memcpy(real[f] + first, b[f] + first, sizeof(double) * (last - first));
+      const int first_row = h == 0 ? 0 : half_;
+      fftw_execute_dft_r2c(forward_[h], real[f] + first, reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_);
     }
-    // Each thread substitutes its own range of modes, [k0, k1).
+    // Each thread substitutes its own range of modes, [k0, k1), in every field.
     const int k0 = t * nk_ / threads, k1 = (t + 1) * nk_ / threads;
-    auto re = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk_ + k)]; };
-    auto im = [&](int j, int k) -> double& { return s[2 * (std::size_t(j) * nk_ + k) + 1]; };
     // c_j −= f c_q for every mode, f the factor entry (j, q).
     auto subtract = [&](int j, int q) {
       const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk_];
       const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk_];
-      for (int k = k0; k < k1; ++k) {
-        const double cr = re(q, k), ci = im(q, k);
-        re(j, k) -= fr[k] * cr - fi[k] * ci;
-        im(j, k) -= fr[k] * ci + fi[k] * cr;
+      for (int f = 0; f < fields; ++f) {
+        double* s = spec[f];
+        for (int k = k0; k < k1; ++k) {
+          const double cr = s[2 * (std::size_t(q) * nk_ + k)], ci = s[2 * (std::size_t(q) * nk_ + k) + 1];
+          s[2 * (std::size_t(j) * nk_ + k)] -= fr[k] * cr - fi[k] * ci;
+          s[2 * (std::size_t(j) * nk_ + k) + 1] -= fr[k] * ci + fi[k] * cr;
+        }
       }
     };
     // Forward substitution with the unit lower factor.
@@ -141,19 +158,24 @@ void PeriodicBandedSolver::solve(const double* b, double* x) {
       for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) subtract(j, q);
       const double* dr = &fre_[(std::size_t(j) * w + band_) * nk_];
       const double* di = &fim_[(std::size_t(j) * w + band_) * nk_];
-      for (int k = k0; k < k1; ++k) {
-        const double cr = re(j, k), ci = im(j, k);
-        re(j, k) = dr[k] * cr - di[k] * ci;
-        im(j, k) = dr[k] * ci + di[k] * cr;
+      for (int f = 0; f < fields; ++f) {
+        double* s = spec[f];
+        for (int k = k0; k < k1; ++k) {
+          const double cr = s[2 * (std::size_t(j) * nk_ + k)], ci = s[2 * (std::size_t(j) * nk_ + k) + 1];
+          s[2 * (std::size_t(j) * nk_ + k)] = dr[k] * cr - di[k] * ci;
+          s[2 * (std::size_t(j) * nk_ + k) + 1] = dr[k] * ci + di[k] * cr;
+        }
       }
     }
 #pragma omp barrier
 #pragma omp for schedule(static)
-    for (int h = 0; h < 2; ++h) {
+    for (int task = 0; task < 2 * fields; ++task) {
+      const int h = task % 2, f = task / 2;
       if (!backward_[h]) continue;
-      fftw_execute(backward_[h]);
+      const int first_row = h == 0 ? 0 : half_;
       const auto [first, last] = half(h);
-      for (std::size_t i = first; i < last; ++i) x[i] = real_[i] * scale;
+      fftw_execute_dft_c2r(backward_[h], reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_, real[f] + first);
+      for (std::size_t i = first; i < last; ++i) x[f][i] = real[f][i] * scale;
     }
   }
 }

@@ -34,6 +34,9 @@ class PeriodicBandedSolver {
 
   // x = A^{-1} b (b and x may alias). For a constant kernel, b must be compatible (zero sum).
   void solve(const double* b, double* x);
+  // x1 = A^{-1} b1 and x2 = A^{-1} b2 at once: the factors are read once for both, and each
+  // result is the same, bit for bit, as solve() gives it (same plans, same operations).
+  void solve_pair(const double* b1, const double* b2, double* x1, double* x2);
   int half_bandwidth() const { return band_; }
   int nx() const { return nx_; }
   int rows() const { return rows_; }
@@ -48,6 +51,9 @@ class PeriodicBandedSolver {
   std::vector<double> fre_, fim_;
   double* real_ = nullptr;
   fftw_complex* spec_ = nullptr;
+  double* real2_ = nullptr;  // the second field of solve_pair (same alignment: the plans run on it too)
+  fftw_complex* spec2_ = nullptr;
+  void solve_fields(int fields, const double* const* b, double* const* x);
   // The rows in two halves, each with its own pair of plans, so that two threads can transform
   // them at once; the halves are the same whatever the thread count (results do not depend on it).
   int half_ = 0;  // first row of the second half

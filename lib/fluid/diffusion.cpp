@@ -3,7 +3,7 @@
 namespace rbc {
 
 ImplicitDiffusion::ImplicitDiffusion(const ChannelMesh& mesh, double rho, double mu, double dt)
-    : m_(mesh), rho_(rho), mu_(mu), dt_(dt), rhs_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0) {
+    : m_(mesh), rho_(rho), mu_(mu), dt_(dt), rhs_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0), rhs2_(rhs_.size(), 0.0) {
   // The Helmholtz operator on the interior rows j = 1..ny-1 (stored as rows 0..ny-2);
   // wall neighbours are known values and move to the right-hand side.
   const int nx = mesh.nx, rows = mesh.ny - 1;
@@ -26,37 +26,43 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
   const double h2 = m_.h * m_.h, a = rho_ * h2 / dt_;
   for (int c = 0; c < 2; ++c) {
     std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
+    std::vector<double>& rhs = (c == 0) ? rhs_ : rhs2_;
     const std::vector<double>* extra = field ? (c == 0 ? &field->u1 : &field->u2) : nullptr;
     const double* bottom = &f[0];
     const double* top = &f[std::size_t(m_.ny) * nx];
 #pragma omp parallel for schedule(static)
     for (int r = 0; r < rows; ++r) {
       const std::size_t o = std::size_t(r + 1) * nx;  // node row j = r + 1
-      double* out = &rhs_[std::size_t(r) * nx];
+      double* out = &rhs[std::size_t(r) * nx];
       for (int i = 0; i < nx; ++i) out[i] = a * f[o + i] + h2 * (body_force[c] + (extra ? (*extra)[o + i] : 0.0));
       if (r == 0)
         for (int i = 0; i < nx; ++i) out[i] += mu_ * bottom[i];
       if (r + 1 == rows)
         for (int i = 0; i < nx; ++i) out[i] += mu_ * top[i];
     }
-    solver_->solve(rhs_.data(), rhs_.data());
+  }
+  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());  // both components at once
 #pragma omp parallel for schedule(static)
-    for (int k = 0; k < nx * rows; ++k) f[nx + k] = rhs_[k];
+  for (int k = 0; k < nx * rows; ++k) {
+    u.u1[nx + k] = rhs_[k];
+    u.u2[nx + k] = rhs2_[k];
   }
 }
 
 void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField& field) {
   const int nx = m_.nx, rows = m_.ny - 1;
   const double h2 = m_.h * m_.h;
-  for (int c = 0; c < 2; ++c) {
-    std::vector<double>& f = (c == 0) ? u.u1 : u.u2;
-    const std::vector<double>& g = (c == 0) ? field.u1 : field.u2;
-    const int n = nx * rows;
+  const int n = nx * rows;
 #pragma omp parallel for schedule(static)
-    for (int k = 0; k < n; ++k) rhs_[k] = h2 * g[nx + k];
-    solver_->solve(rhs_.data(), rhs_.data());
+  for (int k = 0; k < n; ++k) {
+    rhs_[k] = h2 * field.u1[nx + k];
+    rhs2_[k] = h2 * field.u2[nx + k];
+  }
+  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());
 #pragma omp parallel for schedule(static)
-    for (int k = 0; k < n; ++k) f[nx + k] += rhs_[k];
+  for (int k = 0; k < n; ++k) {
+    u.u1[nx + k] += rhs_[k];
+    u.u2[nx + k] += rhs2_[k];
   }
 }
 

@@ -34,7 +34,7 @@ class ImplicitDiffusion {
   ChannelMesh m_;
   double rho_, mu_, dt_;
   std::unique_ptr<PeriodicBandedSolver> solver_;
-  std::vector<double> rhs_;
+  std::vector<double> rhs_, rhs2_;  // the two components' right-hand sides
 };
 
 }  // namespace rbc
