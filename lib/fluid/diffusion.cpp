@@ -66,6 +66,24 @@ void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField
   }
 }
 
+std::pair<double*, double*> ImplicitDiffusion::zeroed_force_rhs() {
+  const std::ptrdiff_t n = std::ptrdiff_t(rhs_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < n; ++k) rhs_[k] = rhs2_[k] = 0.0;
+  return {rhs_.data(), rhs2_.data()};
+}
+
+void ImplicitDiffusion::force_response(VelocityField& out) {
+  const int nx = m_.nx, n = nx * (m_.ny - 1);
+  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());
+  for (int k = 0; k < nx; ++k) out.u1[k] = out.u2[k] = out.u1[nx + n + k] = out.u2[nx + n + k] = 0.0;  // walls
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) {
+    out.u1[nx + k] = rhs_[k];
+    out.u2[nx + k] = rhs2_[k];
+  }
+}
+
 void ImplicitDiffusion::solve_interior(double* b) { solver_->solve(b, b); }
 
 }  // namespace rbc

@@ -10,6 +10,7 @@
 //
 // a Helmholtz problem solved exactly by FFT in x1 and a tridiagonal solve in x2.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
@@ -26,6 +27,13 @@ class ImplicitDiffusion {
   // u += w, where w is step 4's response to the force density field (N/m³) alone:
   // zero on the walls, no body force, no u^{n+2/3} (A w = h² field; the step is linear in f).
   void add_force_response(VelocityField& u, const VelocityField& field);
+  // The same response for callers that spread straight into the solver's right-hand sides:
+  // zeroed_force_rhs() zeroes and hands out the two components' arrays (interior rows j = 1..ny-1,
+  // x1 fastest), into which the caller adds h² f (N/m); force_response(out) then sets out to
+  // step 4's response to that force (m/s, zero on the walls). Saves add_force_response's passes
+  // over whole fields when the force is built for this only (the semi-implicit GMRES products).
+  std::pair<double*, double*> zeroed_force_rhs();
+  void force_response(VelocityField& out);
   // x = A⁻¹ b on the interior rows j = 1..ny-1 (nx (ny−1) values, x1 fastest), walls held at 0.
   void solve_interior(double* b);
   double dt() const { return dt_; }

@@ -12,13 +12,16 @@ ExplicitMembraneStep::ExplicitMembraneStep(const ChannelMesh& mesh, const Membra
 const VelocityField& ExplicitMembraneStep::step(std::vector<Cell>& cells, const VelocityField& u, double dt) {
   std::fill(force_.u1.begin(), force_.u1.end(), 0.0);
   std::fill(force_.u2.begin(), force_.u2.end(), 0.0);
-  for (Cell& c : cells) {
+  stencils_.resize(cells.size());
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    Cell& c = cells[k];
     // (13)-(14) Move the nodes with the interpolated velocity.
     interpolate_velocity(mesh_, u, c.nodes, U_);
     for (std::size_t i = 0; i < c.nodes.size(); ++i) c.nodes[i] += dt * U_[i];
     // (8) Forces at the new positions, (10) spread to the mesh.
     membrane_energy(model_, c.nodes, c.target_area, &F_);
-    spread_forces(mesh_, c.nodes, F_, force_);
+    node_stencils(mesh_, c.nodes, stencils_[k]);
+    spread_forces(mesh_, stencils_[k], F_, force_);
   }
   return force_;
 }

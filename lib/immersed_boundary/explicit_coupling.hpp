@@ -9,6 +9,7 @@
 // measured ≈ 4.7e-8 s at h = 0.125 µm with the study's constants read in SI).
 #include <vector>
 
+#include "immersed_boundary/immersed_boundary.hpp"
 #include "membrane/cell.hpp"
 #include "mesh/channel_mesh.hpp"
 
@@ -20,12 +21,15 @@ class ExplicitMembraneStep {
   // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt);
   const VelocityField& force() const { return force_; }
+  // The transfer stencils of each cell's nodes at their new positions (as the last step left them).
+  const std::vector<std::vector<NodeStencil>>& stencils() const { return stencils_; }
 
  private:
   ChannelMesh mesh_;
   MembraneModel model_;
   VelocityField force_;
   Points U_, F_;
+  std::vector<std::vector<NodeStencil>> stencils_;
 };
 
 }  // namespace rbc

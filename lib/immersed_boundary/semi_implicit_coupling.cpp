@@ -64,42 +64,66 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   const auto t0 = std::chrono::steady_clock::now();
   ++cost_.product_count;
   const int ncells = int(cells.size());
-  // S K v: each thread spreads its share of the cells (a fixed share: the sum is the same from
-  // run to run for a given thread count) into its own field; the fields are then added in order.
-  const int threads = std::max(1, std::min(omp_get_max_threads(), ncells));
-  if (int(thread_force_.size()) != threads) thread_force_.assign(threads, VelocityField(mesh_));
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = omp_get_thread_num();
-    VelocityField& f = thread_force_[t];
-    std::fill(f.u1.begin(), f.u1.end(), 0.0);
-    std::fill(f.u2.begin(), f.u2.end(), 0.0);
-    for (int c = t * ncells / threads; c < (t + 1) * ncells / threads; ++c) {
-      const Eigen::Index n = offset_[c + 1] - offset_[c];
-      const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
-      spread_forces(mesh_, stencils_[c], as_points(kv, 0, int(cells[c].nodes.size())), f);
+  // h² S K v, spread straight into step 4's right-hand sides (weights φ_x φ_y: S has 1/h²).
+  const int nx = mesh_.nx, ny = mesh_.ny;
+  auto spread = [&](int c, double* f1, double* f2) {
+    const Eigen::Index n = offset_[c + 1] - offset_[c];
+    const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
+    for (std::size_t k = 0; k < move_.stencils()[c].size(); ++k) {
+      const NodeStencil& st = move_.stencils()[c][k];
+      for (int b = 0; b < 4; ++b) {
+        const int j = st.j0 + b;
+        if (j <= 0 || j >= ny) continue;  // walls and beyond: dropped, as spread_forces does
+        const std::size_t row = std::size_t(j - 1) * nx;
+        for (int a = 0, i = st.i0; a < 4; ++a, i = i + 1 == nx ? 0 : i + 1) {
+          const double w = st.wx[a] * st.wy[b];
+          f1[row + i] += w * kv[2 * k];
+          f2[row + i] += w * kv[2 * k + 1];
+        }
+      }
     }
+  };
+  auto [f1, f2] = flow_.diffusion().zeroed_force_rhs();
+  if (!slab_cells_.empty()) {
+    // Cells in x1 slabs (see implicit_correction): the even slabs' cells touch disjoint mesh
+    // nodes, so their threads add into the same arrays; then the odd slabs'. Every node sums its
+    // cells in the same order whatever the thread count.
+    for (int phase = 0; phase < 2; ++phase) {
+#pragma omp parallel for schedule(static, 1)
+      for (int s = phase; s < int(slab_cells_.size()); s += 2)
+        for (int c : slab_cells_[s]) spread(c, f1, f2);
+    }
+  } else {
+    // Otherwise each thread spreads its share of the cells (a fixed share: the sum is the same
+    // from run to run for a given thread count) into its own arrays, added in thread order.
+    const int threads = std::max(1, std::min(omp_get_max_threads(), ncells));
+    const std::size_t size = std::size_t(nx) * (ny - 1);
+    if (int(thread_rhs_.size()) != threads - 1) thread_rhs_.assign(threads - 1, std::vector<double>(2 * size));
+#pragma omp parallel num_threads(threads)
+    {
+      const int t = omp_get_thread_num();
+      double* g1 = t == 0 ? f1 : thread_rhs_[t - 1].data();
+      double* g2 = t == 0 ? f2 : thread_rhs_[t - 1].data() + size;
+      if (t > 0) std::fill(thread_rhs_[t - 1].begin(), thread_rhs_[t - 1].end(), 0.0);
+      for (int c = t * ncells / threads; c < (t + 1) * ncells / threads; ++c) spread(c, g1, g2);
+    }
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(size); ++k)
+      for (int t = 1; t < threads; ++t) {
+        f1[k] += thread_rhs_[t - 1][k];
+        f2[k] += thread_rhs_[t - 1][size + k];
+      }
   }
-  VelocityField& f = thread_force_[0];  // the sum, in thread order
   // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P.
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
-  const std::ptrdiff_t size = std::ptrdiff_t(f.u1.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < size; ++k) {
-    for (int t = 1; t < threads; ++t) {
-      f.u1[k] += thread_force_[t].u1[k];
-      f.u2[k] += thread_force_[t].u2[k];
-    }
-    response.u1[k] = response.u2[k] = 0.0;
-  }
-  flow_.diffusion().add_force_response(response, f);
+  flow_.diffusion().force_response(response);
   flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {
     Points U;
-    interpolate_velocity(mesh_, work_, stencils_[c], U);
+    interpolate_velocity(mesh_, work_, move_.stencils()[c], U);
     out.segment(offset_[c], 2 * U.size()) += dt_ * Eigen::Map<const Eigen::VectorXd>(U[0].data(), 2 * U.size());
   }
   cost_.products += seconds_since(t0);
@@ -278,14 +302,38 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // nodes, unknowns (x_1, y_1, x_2, …).
   projected_ = u;
   flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
-  stencils_.resize(ncells);
+  // The nodes' stencils at r^{n+1}: step 2 made them to spread F^{n+1}.
+  const auto& stencils_ = move_.stencils();
+  if (stencils_.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
   Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
-    node_stencils(mesh_, cells[c].nodes, stencils_[c]);
     Points U0;
     interpolate_velocity(mesh_, projected_, stencils_[c], U0);
     rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
+  }
+  // Slabs for the products' spreading: the channel cut into kSpreadSlabs equal slabs along x1,
+  // each cell in the slab of its mean x1. Used when no cell reaches further than a quarter slab
+  // from its mean (its stencils included), so that slabs two apart never touch the same nodes;
+  // otherwise (narrow channels) the per-thread arrays.
+  slab_cells_.clear();
+  if (ncells > 1) {
+    const double slab = mesh_.length / kSpreadSlabs;
+    double reach = 0;
+    std::vector<double> mean(ncells);
+    for (int c = 0; c < ncells; ++c) {
+      double sum = 0;
+      for (const auto& r : cells[c].nodes) sum += r.x();
+      mean[c] = sum / double(cells[c].nodes.size());
+      for (const auto& r : cells[c].nodes) reach = std::max(reach, std::abs(r.x() - mean[c]));
+    }
+    if (2 * (reach + 3 * mesh_.h) < slab) {
+      slab_cells_.resize(kSpreadSlabs);
+      for (int c = 0; c < ncells; ++c) {
+        const double x = mean[c] - mesh_.length * std::floor(mean[c] / mesh_.length);
+        slab_cells_[std::min(kSpreadSlabs - 1, int(x / slab))].push_back(c);
+      }
+    }
   }
   cost_.predictor += seconds_since(t0);
   t0 = clock::now();
@@ -335,7 +383,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     std::fill(force.u1.begin(), force.u1.end(), 0.0);
     std::fill(force.u2.begin(), force.u2.end(), 0.0);
     const Eigen::VectorXd f = -dt_ * blocks_[0].K.apply(U);
-    spread_forces(mesh_, stencils_[0], as_points(f, 0, int(U.size() / 2)), force);
+    spread_forces(mesh_, move_.stencils()[0], as_points(f, 0, int(U.size() / 2)), force);
     flow_.diffusion().add_force_response(correction_, force);
   } else {  // −Δt Σ_p combination_p A⁻¹ S K z_p: the products' responses, added in order
     const std::size_t size = correction_.u1.size();

@@ -125,12 +125,13 @@ class SemiImplicitMembraneStep {
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
-  std::vector<std::vector<NodeStencil>> stencils_;  // each cell's transfer stencils at r^{n+1}
   VelocityField work_;                        // GMRES matrix-vector product: the velocity
   std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
   int products_in_step_ = 0;
   Eigen::VectorXd combination_;               // U = Σ combination_p z_p over those products
-  std::vector<VelocityField> thread_force_;  // its force, one field per thread (spreading in parallel)
+  static constexpr int kSpreadSlabs = 4;       // x1 slabs of the products' spreading (even: two phases)
+  std::vector<std::vector<int>> slab_cells_;  // the cells of each slab (empty: per-thread arrays)
+  std::vector<std::vector<double>> thread_rhs_;  // threads 1.. of the per-thread spreading (both components)
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
   int last_iterations_ = 0;
