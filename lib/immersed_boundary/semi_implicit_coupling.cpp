@@ -121,10 +121,24 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
-  for (int c = 0; c < ncells; ++c) {
-    Points U;
-    interpolate_velocity(mesh_, work_, move_.stencils()[c], U);
-    out.segment(offset_[c], 2 * U.size()) += dt_ * Eigen::Map<const Eigen::VectorXd>(U[0].data(), 2 * U.size());
+  for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v (the interpolation, node by node)
+    const std::vector<NodeStencil>& stencils = move_.stencils()[c];
+    for (std::size_t k = 0; k < stencils.size(); ++k) {
+      const NodeStencil& st = stencils[k];
+      double u1 = 0, u2 = 0;
+      for (int b = 0; b < 4; ++b) {
+        const int j = st.j0 + b;
+        if (j < 0 || j > ny) continue;
+        const std::size_t row = std::size_t(j) * nx;
+        for (int a = 0, i = st.i0; a < 4; ++a, i = i + 1 == nx ? 0 : i + 1) {
+          const double w = st.wx[a] * st.wy[b];
+          u1 += w * work_.u1[row + i];
+          u2 += w * work_.u2[row + i];
+        }
+      }
+      out[offset_[c] + 2 * k] += dt_ * u1;
+      out[offset_[c] + 2 * k + 1] += dt_ * u2;
+    }
   }
   cost_.products += seconds_since(t0);
   return out;
@@ -142,7 +156,8 @@ Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v)
       // (each solved value taken out of the rest at once: no sums to reduce along the chain).
       const Block& b = blocks_[c];
       const int m = int(n);
-      std::vector<float> x(m);
+      thread_local std::vector<float> x;
+      x.resize(m);
       for (int i = 0; i < m; ++i) x[i] = float(v[offset_[c] + b.permutation[i]]);
       for (int j = 0; j < m; ++j) {
         const std::uint16_t* col = &b.lu_bf16[std::size_t(j) * m];

@@ -100,7 +100,7 @@ class SemiImplicitMembraneStep {
   // M every 10 steps; counting the builds, 20 steps cost least at 1.2e-6 s and 15-20 at 2e-6 s
   // (paper/method/04_semi_implicit_coupling.md). Blocks are still built where the nodes will be
   // halfway to the next rebuild (kBuildAhead).
-  static constexpr int kBlockRefreshSteps = 20;
+  static constexpr int kBlockRefreshSteps = 30;
 
  private:
   ChannelFlow& flow_;
