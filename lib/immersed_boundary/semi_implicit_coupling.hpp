@@ -23,13 +23,12 @@
 // flow (the advective bound), not by k_l and k_b. With several cells the system couples them
 // through the fluid; leaving that coupling explicit (each cell with its own block only) was
 // unstable at Δt = 2e-6 s for two cells 5 µm apart (measured), so we solve the coupled system by
-// GMRES, preconditioned by each cell's own system (exact when built), started from the last
-// steps' solutions carried on (solve_coupled); each iteration is one more fast solve and
-// projection (the exact M K v, the long way). Since the blocks only precondition, they are
-// rebuilt every few steps when there are several cells (building them is a large part of the
-// cost at 100 cells; the interval shortens by itself when GMRES needs many iterations, as at
-// larger Δt), and kept in single precision (their triangular solves stream half the memory;
-// GMRES corrects the rest).
+// GMRES, preconditioned by each cell's own system with M averaged over the cell's phase on the
+// grid (StepMobility::phase_averaged_matrix), started from the last steps' solutions carried on
+// (solve_coupled); each iteration is one more fast solve and projection (the exact M K v, the
+// long way). Since the blocks only precondition, they are rebuilt every few tens of steps when
+// there are several cells (the interval shortens by itself when GMRES needs many iterations, as
+// at larger Δt), factored in single precision and stored in bfloat16 (GMRES corrects the rest).
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -87,7 +86,7 @@ class SemiImplicitMembraneStep {
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
   // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
   void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
-  // Several cells: preconditioner blocks rebuilt every 20 steps at most (see refresh_steps_).
+  // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
   // What made blocks of the exact M go stale within a few steps was the grid phase: a block of M
   // built 0.27 h upstream of where the cell is gave ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown),
   // the same block with the old K and the new M 4e-4 (100 cells, wide grid, 2e-6 s: iterations
@@ -95,11 +94,13 @@ class SemiImplicitMembraneStep {
   // averaged over the cell's phase along x1 (step_mobility.hpp), which a cell carried by the
   // flow keeps; what still ages them is the cells deforming, turning and drifting across.
   // Measured, 100 cells in the developed flow, 300 steps, products per step for a rebuild every
-  // 5 / 10 / 15 / 20 / 30 steps: 3.32 / 3.35 / 3.39 / 3.42 / 3.71 at 1.2e-6 s and 4.04 / 4.20 /
-  // 4.33 / 4.53 / 4.77 at 2e-6 s, against 4.1-4.5 at 1.2e-6 s and 5.8 at 2e-6 s with blocks of
-  // M every 10 steps; counting the builds, 20 steps cost least at 1.2e-6 s and 15-20 at 2e-6 s
-  // (paper/method/04_semi_implicit_coupling.md). Blocks are still built where the nodes will be
-  // halfway to the next rebuild (kBuildAhead).
+  // 5 / 10 / 15 / 20 / 30 / 40 steps: 3.32 / 3.35 / 3.39 / 3.42 / 3.71 / 3.94 at 1.2e-6 s and
+  // 4.04 / 4.20 / 4.33 / 4.53 / 4.77 (to 30) at 2e-6 s, against 4.1 at 1.2e-6 s and 5.8 at
+  // 2e-6 s with blocks of M every 10 steps. With a build at ≈ 0.27 ms and a product with its
+  // preconditioner sweep at ≈ 1.1 ms (2 threads), 30 steps cost least (4.9 ms a step against 5.1
+  // for 20 and 5.0 for 40; paper/method/04_semi_implicit_coupling.md). Blocks are still built
+  // where the nodes will be halfway to the next rebuild (kBuildAhead; without it 3.64 against
+  // 3.42 products at 1.2e-6 s, 5.36 against 4.53 at 2e-6 s, both with a rebuild every 20 steps).
   static constexpr int kBlockRefreshSteps = 30;
 
  private:
