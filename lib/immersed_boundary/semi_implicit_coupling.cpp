@@ -315,8 +315,14 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
   // P u⁰: the velocity step 1 would hand to step 2 without the correction; U⁰ = J P u⁰ at the
   // nodes, unknowns (x_1, y_1, x_2, …).
+  // (Several cells: the projection as the products make it, without CG's residual checks; with
+  // the exact Schur preconditioner project() takes that one iteration too, and one-cell runs keep
+  // project(), bit for bit as before.)
   projected_ = u;
-  flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
+  if (ncells > 1)
+    flow_.projection().project_exact(projected_, projected_, flow_.params().fluid.density, dt_);
+  else
+    flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
   // The nodes' stencils at r^{n+1}: step 2 made them to spread F^{n+1}.
   const auto& stencils_ = move_.stencils();
   if (stencils_.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");

@@ -67,7 +67,7 @@ class StepMobility {
   void phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) const;
   // Bytes of H for a mesh and extent (for the scene's memory check, before anything is built).
   static std::size_t phase_average_bytes(const ChannelMesh& mesh, double extent);
-  static constexpr int kPhaseSamples = 8;  // samples of H per h in z
+  static constexpr int kPhaseSamples = 4;  // samples of H per h in z
 
  private:
   // The 8 values (i' mod 2, α, β) at column offset di between rows j (response) and j' (source).
