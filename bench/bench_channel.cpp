@@ -90,7 +90,8 @@ static void bench_cells() {
   // projection has nothing to do: a lower bound, not the cost of a 2D flow (the table above is).
   // 100 cells also at 1.2e-6 s, 20 times their explicit step: issue 4's target asks for at most 3
   // times the explicit cost per step at a step at least 20 times the explicit limit, and smaller
-  // steps cost less per step (measured: 4.4 products per step against 5.8 at 2e-6 s). The last
+  // steps cost less per step (3.7-3.9 products per step against 5.0-5.1 at 2e-6 s; the rows are
+  // timed one after the other, so bench_target times that pair again in alternating rounds). The last
   // row: 100 cells at 4e-6 s with Q = 4 (advective bound 6.25e-6 s; 67 times the explicit step):
   // a larger step costs more per step but less per simulated ms.
   struct Case { int cells; const char* coupling; double dt; int substeps; };
