@@ -58,6 +58,35 @@ TEST(ImmersedBoundary, SpreadingAndInterpolationAreAdjointInTheLumpedInnerProduc
   EXPECT_NEAR(lhs, rhs, 1e-12 * std::abs(rhs));
 }
 
+TEST(ImmersedBoundary, SpreadingIntoInteriorRowsIsHSquaredTimesTheSpreading) {
+  // spread_forces_interior (the semi-implicit products' spreading) against spread_forces, for
+  // nodes next to both walls and across the periodic boundary.
+  const ChannelMesh m = ChannelMesh::make(10e-6, 5e-6, 0.25e-6);
+  const Points r = {{0.1e-6, 2.5e-6}, {9.95e-6, 0.3e-6}, {5.03e-6, 4.9e-6}, {-0.7e-6, 1.0e-6}, {3.3e-6, 0.05e-6}};
+  std::mt19937 gen(5);
+  std::uniform_real_distribution<double> d(-1, 1);
+  Points F;
+  std::vector<double> flat;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    F.push_back({d(gen), d(gen)});
+    flat.insert(flat.end(), {F.back().x(), F.back().y()});
+  }
+  std::vector<NodeStencil> st;
+  node_stencils(m, r, st);
+  VelocityField f(m);
+  spread_forces(m, st, F, f);
+  const std::size_t n = std::size_t(m.nx) * (m.ny - 1);
+  std::vector<double> f1(n, 0.0), f2(n, 0.0);
+  spread_forces_interior(m, st, flat.data(), f1.data(), f2.data());
+  double err = 0, scale = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    err = std::max({err, std::abs(f1[k] - m.h * m.h * f.u1[m.nx + k]), std::abs(f2[k] - m.h * m.h * f.u2[m.nx + k])});
+    scale = std::max({scale, std::abs(f1[k]), std::abs(f2[k])});
+  }
+  EXPECT_GT(scale, 0.1);
+  EXPECT_LT(err, 1e-15 * scale * 16);  // the same weights; only the 1/h² and its h² round
+}
+
 TEST(ImmersedBoundary, InterpolationReproducesLinearFieldsAndSpreadingConservesForce) {
   // The kernel's zeroth and first moments make interpolation exact for linear fields away from
   // the walls, and the spread force integrates to Σ F_i.

@@ -31,6 +31,22 @@ void spread_forces(const ChannelMesh& m, const std::vector<NodeStencil>& st, con
   }
 }
 
+void spread_forces_interior(const ChannelMesh& m, const std::vector<NodeStencil>& st, const double* F, double* f1, double* f2) {
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const NodeStencil& s = st[k];
+    for (int b = 0; b < 4; ++b) {
+      const int j = s.j0 + b;
+      if (j <= 0 || j >= m.ny) continue;  // walls and beyond: dropped
+      const std::size_t row = std::size_t(j - 1) * m.nx;
+      for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {
+        const double w = s.wx[a] * s.wy[b];
+        f1[row + i] += w * F[2 * k];
+        f2[row + i] += w * F[2 * k + 1];
+      }
+    }
+  }
+}
+
 void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const std::vector<NodeStencil>& st, Points& U) {
   // U(r) = Σ_x h² u(x) δ_h δ_h = Σ_x u(x) φ φ.
   U.assign(st.size(), Eigen::Vector2d::Zero());

@@ -30,6 +30,10 @@ void node_stencils(const ChannelMesh& mesh, const Points& r, std::vector<NodeSte
 // Adds the spread of forces F at positions r to field (interior nodes only).
 void spread_forces(const ChannelMesh& mesh, const Points& r, const Points& F, VelocityField& field);
 void spread_forces(const ChannelMesh& mesh, const std::vector<NodeStencil>& r, const Points& F, VelocityField& field);
+// Adds h² times the spread of forces F (N/m, (x, y) of node i at F[2i], F[2i + 1]) to two arrays
+// over the interior rows j = 1..ny-1 only (x1 fastest; the layout of step 4's right-hand sides):
+// f1 gets the x1 component, f2 the x2 one. The same weights as spread_forces, without its 1/h².
+void spread_forces_interior(const ChannelMesh& mesh, const std::vector<NodeStencil>& r, const double* F, double* f1, double* f2);
 // U(r_i) for every node.
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const Points& r, Points& U);
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const std::vector<NodeStencil>& r, Points& U);

@@ -31,8 +31,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // bfloat16: the upper half of a float's bits (8 significant bits). The preconditioner's sweeps
-// stream every block from memory, so storing the blocks' inverses in half the bits of a float
-// halves the traffic of the step's most memory-bound part.
+// stream every block's factors from memory; in half the bits of a float they stream half as much.
 float from_bf16(std::uint16_t h) {
   const std::uint32_t u = std::uint32_t(h) << 16;
   float f;
@@ -69,19 +68,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   auto spread = [&](int c, double* f1, double* f2) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
-    for (std::size_t k = 0; k < move_.stencils()[c].size(); ++k) {
-      const NodeStencil& st = move_.stencils()[c][k];
-      for (int b = 0; b < 4; ++b) {
-        const int j = st.j0 + b;
-        if (j <= 0 || j >= ny) continue;  // walls and beyond: dropped, as spread_forces does
-        const std::size_t row = std::size_t(j - 1) * nx;
-        for (int a = 0, i = st.i0; a < 4; ++a, i = i + 1 == nx ? 0 : i + 1) {
-          const double w = st.wx[a] * st.wy[b];
-          f1[row + i] += w * kv[2 * k];
-          f2[row + i] += w * kv[2 * k + 1];
-        }
-      }
-    }
+    spread_forces_interior(mesh_, move_.stencils()[c], kv.data(), f1, f2);
   };
   auto [f1, f2] = flow_.diffusion().zeroed_force_rhs();
   if (!slab_cells_.empty()) {
@@ -121,23 +108,12 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
-  for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v (the interpolation, node by node)
-    const std::vector<NodeStencil>& stencils = move_.stencils()[c];
-    for (std::size_t k = 0; k < stencils.size(); ++k) {
-      const NodeStencil& st = stencils[k];
-      double u1 = 0, u2 = 0;
-      for (int b = 0; b < 4; ++b) {
-        const int j = st.j0 + b;
-        if (j < 0 || j > ny) continue;
-        const std::size_t row = std::size_t(j) * nx;
-        for (int a = 0, i = st.i0; a < 4; ++a, i = i + 1 == nx ? 0 : i + 1) {
-          const double w = st.wx[a] * st.wy[b];
-          u1 += w * work_.u1[row + i];
-          u2 += w * work_.u2[row + i];
-        }
-      }
-      out[offset_[c] + 2 * k] += dt_ * u1;
-      out[offset_[c] + 2 * k + 1] += dt_ * u2;
+  for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v
+    thread_local Points U;
+    interpolate_velocity(mesh_, work_, move_.stencils()[c], U);
+    for (std::size_t k = 0; k < U.size(); ++k) {
+      out[offset_[c] + 2 * k] += dt_ * U[k].x();
+      out[offset_[c] + 2 * k + 1] += dt_ * U[k].y();
     }
   }
   cost_.products += seconds_since(t0);
@@ -324,19 +300,19 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   else
     flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
   // The nodes' stencils at r^{n+1}: step 2 made them to spread F^{n+1}.
-  const auto& stencils_ = move_.stencils();
-  if (stencils_.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
+  const auto& stencils = move_.stencils();
+  if (stencils.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
   Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     Points U0;
-    interpolate_velocity(mesh_, projected_, stencils_[c], U0);
+    interpolate_velocity(mesh_, projected_, stencils[c], U0);
     rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
   }
   // Slabs for the products' spreading: the channel cut into kSpreadSlabs equal slabs along x1,
-  // each cell in the slab of its mean x1. Used when no cell reaches further than a quarter slab
-  // from its mean (its stencils included), so that slabs two apart never touch the same nodes;
-  // otherwise (narrow channels) the per-thread arrays.
+  // each cell in the slab of its mean x1. Used when no cell reaches further than half a slab
+  // from its mean (its stencils and a mesh cell of margin included), so that slabs two apart
+  // never touch the same nodes; otherwise (narrow channels) the per-thread arrays.
   slab_cells_.clear();
   if (ncells > 1) {
     const double slab = mesh_.length / kSpreadSlabs;
