@@ -385,12 +385,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   // The semi-implicit coupling tabulates the step mobility once: 8 nx (ny − 1)² doubles, and
   // with several cells its phase average H for the preconditioner (step_mobility.hpp).
   if (s.coupling == "semi-implicit" && !s.cells.empty()) {
-    const double nx = std::round(s.length / s.mesh_size), ny = std::round(s.height / s.mesh_size);
+    const ChannelMesh mesh = ChannelMesh::make(s.length, s.height, s.mesh_size);  // checked above
+    const double nx = mesh.nx, ny = mesh.ny;
     double gib = 8.0 * nx * (ny - 1) * (ny - 1) * 8.0 / (1024.0 * 1024.0 * 1024.0);
     if (s.cells.size() > 1)
-      gib += double(StepMobility::phase_average_bytes(ChannelMesh::make(s.length, s.height, s.mesh_size),
-                                                      phase_average_extent(s.membrane_model()))) /
-             (1024.0 * 1024.0 * 1024.0);
+      gib += double(StepMobility::phase_average_bytes(mesh, phase_average_extent(s.membrane_model()))) / (1024.0 * 1024.0 * 1024.0);
     if (gib > kMaxMobilityTableGiB) {
       std::ostringstream m;
       m << "= \"semi-implicit\" on this mesh (" << nx << " x " << ny << ") needs a " << gib
