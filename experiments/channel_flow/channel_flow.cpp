@@ -62,6 +62,12 @@ Results run(const Params& p) {
       startup << t[k] << "," << U[k] << "," << exact << "\n";
       r.startup_error = std::max(r.startup_error, std::abs(U[k] - exact) / u0);
     }
+    if (p.quick) {
+      res.quick_record[which + "_mean_velocity"] = {which + " channel: mean velocity at the end", "cm/s", r.summary.mean_velocity * 100.0};
+      res.quick_record[which + "_profile_error"] = {which + " channel: max |u1 - parabola| / peak at the end", "", r.profile_error};
+      res.quick_record[which + "_startup_error"] = {which + " channel: start-up, max |U - U_exact| / U0", "", r.startup_error};
+      res.quick_record[which + "_steps"] = {which + " channel: steps", "", double(r.summary.steps)};
+    }
     res.measured[which + "_mean_velocity"] = {r.summary.mean_velocity * 100.0, {}, ""};  // cm/s
     res.measured[which + "_reynolds"] = {r.summary.reynolds, {}, ""};
     res.channels[which] = r;

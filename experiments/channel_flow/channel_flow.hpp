@@ -14,6 +14,7 @@
 #include <string>
 
 #include "reference/reference_table.hpp"
+#include "reference/regression_record.hpp"
 #include "scene/run_scene.hpp"
 
 namespace rbc::channel_flow {
@@ -35,6 +36,7 @@ struct ChannelResult {
 struct Results {
   std::map<std::string, ChannelResult> channels;  // "narrow", "wide"
   std::map<std::string, Measured> measured;       // ids of reference-data/channel_flow.csv
+  std::map<std::string, Observed> quick_record;   // quick runs: for reference-data/regression/channel_flow_quick.csv
 };
 
 Results run(const Params& params);

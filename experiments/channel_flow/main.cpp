@@ -1,4 +1,5 @@
 // channel_flow: cell-free Poiseuille flow in the study's channels (see channel_flow.hpp).
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -16,14 +17,24 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check, "compare with reference-data/channel_flow.csv; exit 1 on a failed row");
   app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
   app.add_flag("--resume", p.resume, "continue a channel stopped by SIGINT/SIGTERM from the checkpoint in its folder");
+  bool record = false;
+  app.add_flag("--record-regression", record,
+               "with --quick: write this run's numbers into reference-data/regression/channel_flow_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
   try {
     const auto res = rbc::channel_flow::run(p);
     for (const auto& [name, r] : res.channels)
       std::printf("%-6s: %ld steps, %.1f s wall; max |u1 - parabola|/peak = %.2e; start-up max |U - U_exact|/U0 = %.2e\n",
                   name.c_str(), r.summary.steps, r.summary.wall_seconds, r.profile_error, r.startup_error);
+    if (record) {
+      if (!p.quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
+      rbc::write_regression_record("channel_flow", res.quick_record, "build/bin/channel_flow --quick --record-regression");
+      std::printf("wrote %s\n", rbc::regression_record_path("channel_flow").c_str());
+    }
     if (!check) return 0;
-    return rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout);
+    const int study = rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout);
+    const int regression = p.quick ? rbc::run_regression_check("channel_flow", res.quick_record, p.out_dir, std::cout) : 0;
+    return std::max(study, regression);
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "channel_flow: %s; continue with the same command and --resume\n", e.what());
     return 128 + e.signal;

@@ -1,4 +1,5 @@
 // single_cell_migration: one cell in the study's narrow and wide channels (see the header).
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -24,8 +25,12 @@ int main(int argc, char** argv) {
   app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
   bool resume = false;
   app.add_flag("--resume", resume, "continue cases stopped by SIGINT/SIGTERM from the checkpoint in their folder");
+  bool record = false;
+  app.add_flag("--record-regression", record,
+               "with --quick: write this run's numbers into reference-data/regression/single_cell_migration_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
-  scm::Params p = quick ? scm::Params::quick_params() : scm::Params{};
+  scm::Params p;
+  if (quick) p = scm::Params::quick_params();
   p.only = only;
   p.reuse = reuse;
   p.resume = resume;
@@ -50,8 +55,16 @@ int main(int argc, char** argv) {
                   cell.shape.kind.c_str(), cell.area_drift);
     }
     if (!r.units_evidence.empty()) std::ofstream(p.out_dir + "/units_evidence.md") << r.units_evidence;
+    if (record) {
+      if (!quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
+      rbc::write_regression_record("single_cell_migration", r.quick_record, "build/bin/single_cell_migration --quick --record-regression");
+      std::printf("wrote %s\n", rbc::regression_record_path("single_cell_migration").c_str());
+    }
     if (!check) return 0;
-    return rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout);
+    if (!p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (or add --reuse after running the parts)");
+    const int study = rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout, !quick);
+    const int regression = quick ? rbc::run_regression_check("single_cell_migration", r.quick_record, p.out_dir, std::cout) : 0;
+    return std::max(study, regression);
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 128 + e.signal;

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <thread>
 
+#include "diagnostics/flow_diagnostics.hpp"
 #include "io/csv.hpp"
 #include "mesh/channel_mesh.hpp"
 
@@ -84,6 +85,12 @@ constexpr double kSemiImplicitStepCost = 3.2;
 double estimated_work(const Scene& s) {
   const double nodes = double(ChannelMesh::make(s.length, s.height, s.mesh_size).velocity_nodes());
   return std::round(s.end / s.dt) * nodes * (s.coupling == "semi-implicit" ? kSemiImplicitStepCost : 1.0);
+}
+
+std::string re_case_name(double h, double dt, double s) {
+  char b[64];
+  std::snprintf(b, sizeof b, "re_h%g_dt%g_%s", h * 1e6, dt, tag(s).c_str());
+  return b;
 }
 
 double value_at(const std::vector<double>& t, const std::vector<double>& v, double when) {
@@ -166,6 +173,79 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
   std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_summary;
 }
 
+// What could explain the Reynolds numbers with the cell (issue 14): their h- and Δt-convergence,
+// the averaging window and the definition of U. Markdown for the report, from the narrow runs.
+void re_evidence_table(const Params& p, Results& res) {
+  const FluidProperties fluid = Scene{}.fluid;
+  const double H = 10e-6;
+  std::map<double, std::string> study;
+  for (const ReferenceRow& r : load_reference_table(reference_table_path("single_cell_migration")))
+    for (double s : p.swelling_ratios)
+      if (r.id == "re_" + std::string(s == 0.55 ? "s055" : s == 0.7 ? "s07" : "s10")) study[s] = std::to_string(*r.value).substr(0, 6);
+  auto re_of = [&](const std::string& name) -> double {
+    const auto it = res.cases.find(name);
+    return it == res.cases.end() || !it->second.failure.empty() ? NAN : it->second.summary.reynolds;
+  };
+  // h-sequence: the largest Δt of each h in re_runs, then the row's own run; Δt: two steps at one h.
+  std::map<double, std::vector<double>> dts;  // h -> Δt, largest first
+  for (const auto& [h, dt] : p.re_runs) dts[h].push_back(dt);
+  for (auto& [h, v] : dts) std::sort(v.rbegin(), v.rend());
+  std::ostringstream md;
+  md << "Re with the cell against the mesh size (explicit coupling, to " << p.narrow_end * 1e3
+     << " ms; Δt of each h in brackets), the observed order, the Richardson extrapolation h → 0 and the change when Δt is "
+        "halved:\n\n| s* | ";
+  for (auto it = dts.rbegin(); it != dts.rend(); ++it) md << "h = " << it->first * 1e6 << " um (" << it->second.front() << " s) | ";
+  md << "h = " << p.narrow_mesh * 1e6 << " um (" << p.narrow_dt << " s): the row | observed order | extrapolated | Δt halved at h = "
+     << dts.begin()->first * 1e6 << " um | study |\n|---|";
+  for (std::size_t k = 0; k < dts.size() + 5; ++k) md << "---|";
+  md << "\n";
+  for (double s : p.swelling_ratios) {
+    std::vector<double> seq;
+    for (auto it = dts.rbegin(); it != dts.rend(); ++it) seq.push_back(re_of(re_case_name(it->first, it->second.front(), s)));
+    seq.push_back(re_of("narrow_" + p.membrane.units + "_" + tag(s)));
+    const std::size_t n = seq.size();
+    const double order = n >= 3 ? std::log2(std::abs((seq[n - 3] - seq[n - 2]) / (seq[n - 2] - seq[n - 1]))) : NAN;
+    const double extrap = order > 0.3 ? seq[n - 1] + (seq[n - 1] - seq[n - 2]) / (std::pow(2.0, order) - 1) : NAN;
+    const auto& fine = *dts.begin();
+    const double dt_change = fine.second.size() >= 2 ? re_of(re_case_name(fine.first, fine.second[1], s)) -
+                                                           re_of(re_case_name(fine.first, fine.second[0], s))
+                                                     : NAN;
+    char row[320];
+    md << "| " << s << " | ";
+    for (double v : seq) { std::snprintf(row, sizeof row, "%.4f | ", v); md << row; }
+    std::snprintf(row, sizeof row, "%.2f | %.4f | %+.1e | %s |\n", order, extrap, dt_change, study[s].c_str());
+    md << row;
+  }
+  md << "\nThe averaging window and the definition of U, at h = " << p.narrow_mesh * 1e6
+     << " um: U over the whole cross-section (ours, SPEC section 1) averaged over the last sample interval (the row), over the "
+        "last " << p.re_window * 1e3 << " ms and over the whole run from rest; and the plasma alone "
+        "(lib/diagnostics/flow_diagnostics.hpp), its flux per unit channel height and its mean velocity over the open height "
+        "of each section, averaged over the samples of the last " << p.re_window * 1e3 << " ms:\n\n"
+        "| s* | U over the section, last sample interval (the row) | last " << p.re_window * 1e3 << " ms | whole run | plasma flux / H | "
+        "plasma over its open height | study |\n|---|---|---|---|---|---|---|\n";
+  for (double s : p.swelling_ratios) {
+    const std::string name = "narrow_" + p.membrane.units + "_" + tag(s);
+    if (!res.cases.count(name) || !res.cases.at(name).failure.empty()) continue;
+    const std::string series = (fs::path(p.out_dir) / name / "series.csv").string();
+    const auto t = csv_column(series, "t"), U = csv_column(series, "mean_velocity"), Qp = csv_column(series, "plasma_flux_velocity"),
+               Up = csv_column(series, "plasma_open_velocity");
+    auto mean = [&](const std::vector<double>& v, double from) {
+      double sum = 0;
+      int k = 0;
+      for (std::size_t i = 1; i < t.size(); ++i)
+        if (t[i] > from + 1e-12) { sum += v[i]; ++k; }
+      return k ? reynolds_number(sum / k, fluid, H) : NAN;
+    };
+    const double from = t.back() - p.re_window;
+    char row[256];
+    std::snprintf(row, sizeof row, "| %g | %.4f | %.4f | %.4f | %.4f | %.4f | %s |\n", s, res.cases.at(name).summary.reynolds,
+                  mean(U, from), mean(U, 0.0), mean(Qp, from), mean(Up, from), study[s].c_str());
+    md << row;
+  }
+  res.re_evidence = md.str();
+  std::ofstream(fs::path(p.out_dir) / "re_evidence.md") << res.re_evidence;
+}
+
 Results run(const Params& p) {
   // The cases: the narrow channel under the chosen reading (Figures 3, 4), the other reading over
   // the first millisecond (the units evidence), the wide channel (Figure 5).
@@ -173,11 +253,20 @@ Results run(const Params& p) {
   for (double s : p.swelling_ratios) {
     Scene sc = channel_scene(20e-6, 10e-6, p.narrow_mesh, 0.5556, p.narrow_dt, p.narrow_end, p.sample_every);
     sc.cells.push_back({{5e-6, 3e-6}, s, 0.0});
-    sc.membrane_constants.units = p.units;
+    sc.membrane_constants = p.membrane;
     sc.snapshots = kFigure3Times;
-    sc.source = "single_cell_migration narrow " + p.units + " s*=" + std::to_string(s);
-    jobs.push_back({"narrow_" + p.units + "_" + tag(s), sc});
+    sc.source = "single_cell_migration narrow " + p.membrane.units + " s*=" + std::to_string(s);
+    jobs.push_back({"narrow_" + p.membrane.units + "_" + tag(s), sc});
     if (p.quick) continue;
+    // Re with the cell against h and Δt: the same run on coarser meshes and a smaller step.
+    if (p.re_convergence)
+      for (const auto& [h, dt] : p.re_runs) {
+        Scene r = channel_scene(20e-6, 10e-6, h, 0.5556, dt, p.narrow_end, p.sample_every);
+        r.cells = sc.cells;
+        r.membrane_constants = p.membrane;
+        r.source = "single_cell_migration " + re_case_name(h, dt, s);
+        jobs.push_back({re_case_name(h, dt, s), r});
+      }
     if (std::find(p.other_swelling_ratios.begin(), p.other_swelling_ratios.end(), s) != p.other_swelling_ratios.end()) {
     Scene other = sc;
     other.membrane_constants.units = p.other_units;
@@ -189,15 +278,15 @@ Results run(const Params& p) {
     }
     Scene wide = channel_scene(100e-6, 50e-6, p.wide_mesh, 2.778, p.wide_dt, p.wide_end, p.wide_every);
     wide.cells.push_back({{25e-6, p.wide_y0}, s, 0.0});
-    wide.membrane_constants.units = p.units;
+    wide.membrane_constants = p.membrane;
     wide.coupling = p.wide_coupling;
     wide.advection_substeps = p.wide_substeps;
     wide.snapshots = {0.0, 0.1, 0.2, 0.4, 0.8};
     char src[160];
-    std::snprintf(src, sizeof src, "single_cell_migration wide %s s*=%g %s dt=%g s end=%g s", p.units.c_str(), s,
+    std::snprintf(src, sizeof src, "single_cell_migration wide %s s*=%g %s dt=%g s end=%g s", p.membrane.units.c_str(), s,
                   p.wide_coupling.c_str(), p.wide_dt, p.wide_end);
     wide.source = src;
-    jobs.push_back({"wide_" + p.units + "_" + tag(s), wide});
+    jobs.push_back({"wide_" + p.membrane.units + "_" + tag(s), wide});
   }
   // Error against run time: short narrow-channel runs over h and Δt, both couplings.
   struct ConvJob { std::string name, coupling; double h, dt; };
@@ -211,7 +300,7 @@ Results run(const Params& p) {
           std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", coupling.c_str(), h * 1e6, dt);
           Scene sc = channel_scene(20e-6, 10e-6, h, 0.5556, dt, std::round(p.conv_time / dt) * dt, p.conv_time / 25);
           sc.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
-          sc.membrane_constants.units = p.units;
+          sc.membrane_constants = p.membrane;
           sc.coupling = coupling;
           Scene q1 = sc;
           q1.advection_substeps = 1;
@@ -292,10 +381,11 @@ Results run(const Params& p) {
   if (!failure.empty()) throw RunFailure(failure);
   if (!conv.empty() && (p.only.empty() || std::string("conv").rfind(p.only, 0) == 0 || p.only.rfind("conv", 0) == 0))
     convergence_table(p, conv, res);
+  if (!p.quick && p.re_convergence && p.only.empty()) re_evidence_table(p, res);
   if (!p.only.empty()) return res;  // a part: no comparison with the study
 
   // The study's rows (reference-data/single_cell_migration.csv).
-  auto narrow = [&](double s) -> const Case& { return res.cases.at("narrow_" + p.units + "_" + tag(s)); };
+  auto narrow = [&](double s) -> const Case& { return res.cases.at("narrow_" + p.membrane.units + "_" + tag(s)); };
   const std::map<double, std::string> ids = {{0.55, "s055"}, {0.7, "s07"}, {1.0, "s10"}};
   for (double s : p.swelling_ratios) {
     if (!ids.count(s)) continue;
@@ -305,7 +395,23 @@ Results run(const Params& p) {
       for (const char* row : {"hct_", "re_", "centreline_"}) res.measured[std::string(row) + id] = {{}, false, "run failed: " + c.failure};
       continue;
     }
-    res.measured["hct_" + id] = {c.summary.hematocrit, {}, "end of run; " + std::to_string(c.hematocrit0).substr(0, 6) + " % at t = 0"};
+    // The hematocrit of the set-up: the prepared cell at t = 0 (its area drift during the run is
+    // its own quantity, in cases.csv and the quick record).
+    char hnote[96];
+    std::snprintf(hnote, sizeof hnote, "prepared cell, t = 0; %.4f %% at the end", c.summary.hematocrit);
+    res.measured["hct_" + id] = {c.hematocrit0, {}, hnote};
+    if (p.quick) {
+      const CellState& cell = c.summary.cells.at(0);
+      const std::string k = "_" + tag(c.swelling_ratio), what = ", s* = " + std::to_string(c.swelling_ratio).substr(0, 4) + ", at " +
+                                                               std::to_string(p.narrow_end * 1e3).substr(0, 4) + " ms";
+      res.quick_record["y" + k] = {"centroid height" + what, "um", cell.centroid.y() * 1e6};
+      res.quick_record["x" + k] = {"centroid x1 (unwrapped)" + what, "um", cell.centroid.x() * 1e6};
+      res.quick_record["re" + k] = {"Reynolds number, last sample interval" + what, "", c.summary.reynolds};
+      res.quick_record["drift" + k] = {"area drift" + what, "", cell.area_drift};
+      res.quick_record["rear" + k] = {"rear concavity" + what, "", cell.shape.rear_concavity};
+      res.quick_record["length" + k] = {"x1-extent" + what, "um", cell.shape.length * 1e6};
+      res.quick_record["hct0" + k] = {"hematocrit of the prepared cell" + what.substr(0, what.find(", at")), "%", c.hematocrit0};
+    }
     if (!p.quick) {
       res.measured["re_" + id] = {c.summary.reynolds, {}, ""};
       const double y7 = value_at(c.t, c.y, p.centreline_check_time);
@@ -321,7 +427,7 @@ Results run(const Params& p) {
   // other reading only leaves its row of the units evidence without numbers.
   bool all_ran = true;
   for (const auto& [name, c] : res.cases)
-    if (name.rfind("narrow_" + p.units + "_", 0) == 0 || name.rfind("wide_", 0) == 0) all_ran = all_ran && c.failure.empty();
+    if (name.rfind("narrow_" + p.membrane.units + "_", 0) == 0 || name.rfind("wide_", 0) == 0) all_ran = all_ran && c.failure.empty();
   if (!p.quick && ids.size() == p.swelling_ratios.size() && all_ran) {
     // s* = 1 slowest: its time to reach the centreline band is the largest.
     auto ttc = [&](double s) { const double t = narrow(s).time_to_centreline; return t < 0 ? INFINITY : t; };
@@ -332,7 +438,7 @@ Results run(const Params& p) {
     // s*, the higher (closer to the centreline at 25 um); a time at which all three are already
     // within two mesh cells of the centreline cannot order them and is skipped.
     {
-      auto wide = [&](double s) -> const Case& { return res.cases.at("wide_" + p.units + "_" + tag(s)); };
+      auto wide = [&](double s) -> const Case& { return res.cases.at("wide_" + p.membrane.units + "_" + tag(s)); };
       bool holds = true;
       int compared = 0;
       std::string text;
@@ -355,7 +461,7 @@ Results run(const Params& p) {
     ev << "| s* | reading | y at " << p.other_end * 1e3 << " ms (um) | shape at " << p.other_end * 1e3
        << " ms | rear concavity |\n|---|---|---|---|---|\n";
     for (double s : p.other_swelling_ratios)
-      for (const std::string& u : {p.units, p.other_units}) {
+      for (const std::string& u : {p.membrane.units, p.other_units}) {
         const Case& c = res.cases.at("narrow_" + u + "_" + tag(s));
         if (!c.failure.empty()) {  // the row says why it has no numbers
           char row[64];

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "reference/reference_table.hpp"
+#include "reference/regression_record.hpp"
 #include "scene/run_scene.hpp"
 
 namespace rbc::single_cell_migration {
@@ -28,7 +29,9 @@ struct Params {
 
   // The study's parameters (Section 4.1) and our choices where it is silent.
   std::vector<double> swelling_ratios = {0.55, 0.7, 1.0};
-  std::string units = "si";  // the reading of the constants; chosen by the evidence below (README.md)
+  // k_l, k_b, k_s as the study gives them and their reading in 2D (units: chosen by the evidence
+  // below, README.md); the experiment's cases all use these.
+  MembraneConstants membrane;  // units = "si" (MembraneConstants default)
   double narrow_mesh = 0.125e-6;   // h, m (80 per 10 um)
   double narrow_dt = 2e-8;         // s; our explicit limit is 2.6e-8 s (stability map, since the speed check)
   double narrow_end = 7.5e-3;      // s
@@ -51,6 +54,11 @@ struct Params {
   double wide_end = 0.8;           // s, as in the study
   double wide_every = 5e-4;        // s between samples
   double wide_y0 = 10e-6;          // m
+  // Re with the cell against h and Δt (issue 14): the narrow runs again at h = 0.5 and 0.25 um,
+  // and at 0.25 um with Δt halved, to 7.5 ms (explicit; each Δt ~60 % of that h's stable limit).
+  bool re_convergence = true;
+  std::vector<std::pair<double, double>> re_runs = {{0.5e-6, 8e-8}, {0.25e-6, 4e-8}, {0.25e-6, 2e-8}};  // (h m, Δt s)
+  double re_window = 1e-3;  // s: Re also averaged over the last re_window of the run (the evidence table)
   // Error against run time (issue 4): the narrow channel on a short horizon, s* = 0.55, both
   // couplings over h and Δt; the error of the centroid height at conv_time against the finest
   // run (explicit, h = 0.125 µm, Δt = 6e-9 s). Each Δt list halves, for the observed orders.
@@ -81,6 +89,7 @@ struct Case {
   RunSummary summary;
   std::vector<double> t, y;  // centroid height history, s and m
   double hematocrit0 = 0;    // % at t = 0 (the prepared cell)
+  double rear_concavity = 0; // shape descriptor at the end
   double time_to_centreline = -1;  // s, first time |y − H/2| < band; −1 if never
   std::string failure;       // non-empty if the run stopped (instability): the cause
 };
@@ -98,6 +107,9 @@ struct Results {
   std::string convergence_summary;  // Markdown: reference, observed orders
   std::map<std::string, Measured> measured;  // ids of reference-data/single_cell_migration.csv
   std::string units_evidence;                // a short paragraph for the report
+  std::string re_evidence;                   // Markdown: Re against h, Δt, averaging window, definition
+  // Quick runs: the quick case's own numbers, for its regression record (reference-data/regression/).
+  std::map<std::string, Observed> quick_record;
 };
 
 Results run(const Params& params);

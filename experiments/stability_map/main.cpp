@@ -1,6 +1,8 @@
 // stability_map: the largest stable Δt of both couplings against k_l, k_b and h, and the extreme
 // cases of SPEC section 7 (see stability_map.hpp).
+#include <algorithm>
 #include <cstdio>
+#include <iostream>
 
 #include <omp.h>
 
@@ -21,6 +23,9 @@ int main(int argc, char** argv) {
   bool p_resume = false;
   app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the points already written, compute the rest");
   app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
+  bool record = false;
+  app.add_flag("--record-regression", record,
+               "with --quick: write this run's numbers into reference-data/regression/stability_map_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
   sm::Params p = quick ? sm::Params::quick_params() : sm::Params{};
   if (!out.empty()) p.out_dir = out;
@@ -33,7 +38,14 @@ int main(int argc, char** argv) {
     for (const auto& e : r.extremes) unstable_extremes += !e.stable;
     std::printf("stability map: %zu points, %d of %zu extreme cases stopped; outputs in %s\n", r.points.size(), unstable_extremes,
                 r.extremes.size(), p.out_dir.c_str());
-    return check && unstable_extremes > 0 ? 1 : 0;
+    if (record) {
+      if (!quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
+      rbc::write_regression_record("stability_map", r.quick_record, "build/bin/stability_map --quick --threads 1 --record-regression");
+      std::printf("wrote %s\n", rbc::regression_record_path("stability_map").c_str());
+    }
+    int status = check && unstable_extremes > 0 ? 1 : 0;
+    if (check && quick) status = std::max(status, rbc::run_regression_check("stability_map", r.quick_record, p.out_dir, std::cout));
+    return status;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stability_map: %s\n", e.what());
     return 2;

@@ -241,11 +241,16 @@ bool read_finished(const std::string& dir, Results& res) {
 
 }  // namespace
 
+namespace {
+void fill_quick_record(Results& res);
+}  // namespace
+
 Results run(const Params& p) {
   std::filesystem::create_directories(p.out_dir);
   Results res;
   if (p.reuse && read_finished(p.out_dir, res)) {
     write_tables(p, res);
+    if (p.quick) fill_quick_record(res);
     return res;
   }
   // --resume: the points already in stability_map.csv (each row is flushed when its bisection
@@ -283,8 +288,25 @@ Results run(const Params& p) {
     ex << "\"" << e.name << "\",\"" << e.what << "\"," << e.coupling << "," << e.dt << "," << e.end << "," << e.stable << ",\""
        << e.outcome << "\"," << e.wall_seconds << "\n";
   write_tables(p, res);
+  if (p.quick) fill_quick_record(res);
   return res;
 }
+
+namespace {
+
+// The quick map's own numbers: each point's stable Δt and each extreme case's outcome.
+void fill_quick_record(Results& res) {
+  for (const Point& pt : res.points) {
+    char id[96], q[160];
+    std::snprintf(id, sizeof id, "%s_h%g_kl%g_kb%g", pt.coupling.c_str(), pt.h * 1e6, pt.kl_scale, pt.kb_scale);
+    std::snprintf(q, sizeof q, "%s: largest stable dt, h = %g um, k_l x %g, k_b x %g", pt.coupling.c_str(), pt.h * 1e6, pt.kl_scale,
+                  pt.kb_scale);
+    res.quick_record[id] = {q, "s", pt.stable};
+  }
+  for (const Extreme& e : res.extremes) res.quick_record["extreme " + e.name] = {"extreme case ran through (1) or stopped (0): " + e.name, "", e.stable ? 1.0 : 0.0};
+}
+
+}  // namespace
 
 void write_tables(const Params& p, const Results& res) {
   // The report's table: both couplings side by side, and the extreme cases.

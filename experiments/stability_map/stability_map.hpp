@@ -12,8 +12,11 @@
 // between a stable and an unstable value until their ratio is below kRatio; the search stops at
 // the advective cap Δt_adv (the wave-like step's bound with Q = kMaxSubsteps), which the flow
 // itself sets: "≥ cap" means stable there.
+#include <map>
 #include <string>
 #include <vector>
+
+#include "reference/regression_record.hpp"
 
 namespace rbc::stability_map {
 
@@ -54,6 +57,8 @@ struct Extreme {
 struct Results {
   std::vector<Point> points;
   std::vector<Extreme> extremes;
+  // Quick runs: every limit and extreme outcome, for reference-data/regression/stability_map_quick.csv.
+  std::map<std::string, Observed> quick_record;
 };
 
 Results run(const Params& p);

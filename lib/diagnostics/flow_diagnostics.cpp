@@ -35,3 +35,52 @@ bool all_finite(const VelocityField& u) {
 }
 
 }  // namespace rbc
+
+namespace rbc {
+
+PlasmaVelocity plasma_velocity(const ChannelMesh& m, const VelocityField& u, const std::vector<const Points*>& membranes) {
+  // ∫_c^d u1 dy on column i, u1 linear between the nodes y_j = j h.
+  auto integral = [&](int i, double c, double d) {
+    double s = 0;
+    const int j0 = std::max(0, int(std::floor(c / m.h))), j1 = std::min(m.ny - 1, int(std::floor(d / m.h)));
+    for (int j = j0; j <= j1; ++j) {
+      const double a = std::max(c, j * m.h), b = std::min(d, (j + 1) * m.h);
+      if (b <= a) continue;
+      const double ua = u.u1[m.v(i, j)], ub = u.u1[m.v(i, j + 1)];
+      auto at = [&](double y) { return ua + (ub - ua) * (y - j * m.h) / m.h; };
+      s += (b - a) * 0.5 * (at(a) + at(b));
+    }
+    return s;
+  };
+  PlasmaVelocity out;
+  double flux_sum = 0, open_sum = 0;
+  std::vector<double> ys;
+  for (int i = 0; i < m.nx; ++i) {
+    double q = integral(i, 0.0, m.height), open = m.height;
+    for (const Points* r : membranes) {
+      double xmin = INFINITY, xmax = -INFINITY;
+      for (const auto& p : *r) { xmin = std::min(xmin, p.x()); xmax = std::max(xmax, p.x()); }
+      // The section x_i + k L for every period k that meets the cell.
+      for (double X = m.x(i) + std::ceil((xmin - m.x(i)) / m.length) * m.length; X <= xmax; X += m.length) {
+        ys.clear();
+        for (std::size_t k = 0; k < r->size(); ++k) {
+          const auto& a = (*r)[k];
+          const auto& b = (*r)[(k + 1) % r->size()];
+          if ((a.x() <= X) != (b.x() <= X)) ys.push_back(a.y() + (X - a.x()) * (b.y() - a.y()) / (b.x() - a.x()));
+        }
+        std::sort(ys.begin(), ys.end());
+        for (std::size_t k = 0; k + 1 < ys.size(); k += 2) {
+          q -= integral(i, ys[k], ys[k + 1]);
+          open -= ys[k + 1] - ys[k];
+        }
+      }
+    }
+    flux_sum += q;
+    open_sum += q / open;
+  }
+  out.flux_per_height = flux_sum / (m.nx * m.height);
+  out.over_open_height = open_sum / m.nx;
+  return out;
+}
+
+}  // namespace rbc

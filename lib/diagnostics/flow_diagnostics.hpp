@@ -2,7 +2,18 @@
 // Flow quantities the study reports (SPEC section 1).
 //   mean velocity  U = (1/(L H)) ∫_Ω u1 dx   (lumped quadrature: trapezoid rule), m/s
 //   Reynolds       Re = ρ U H / μ
+//
+// The study does not say whether U counts the fluid inside the cells (issue 14). For that
+// question we also measure the plasma alone, section by section (x1 = x_i, each mesh column):
+//   Q_p(x_i) = ∫ u1 dy over the parts of (0, H) outside every membrane   (u1 linear between the
+//              column's nodes, integrated exactly over the parts),
+//   H_p(x_i) = H − Σ chords of the cells on that section (the open height),
+// and report the section averages  U_p = <Q_p>/H  (the plasma's flux per unit height) and
+// U_p,open = <Q_p / H_p>  (the plasma's mean velocity over its own height).
+#include <vector>
+
 #include "fluid/channel_flow.hpp"
+#include "membrane/spring_membrane.hpp"
 
 namespace rbc {
 
@@ -10,5 +21,12 @@ double mean_velocity(const ChannelMesh& mesh, const VelocityField& u);
 double reynolds_number(double mean_velocity, const FluidProperties& fluid, double height);
 double max_speed(const VelocityField& u);  // max over nodes of |u|, m/s
 bool all_finite(const VelocityField& u);
+
+struct PlasmaVelocity {
+  double flux_per_height = 0;  // <Q_p> / H, m/s
+  double over_open_height = 0; // <Q_p / H_p>, m/s
+};
+// membranes: closed polygons, x1 unwrapped (any multiple of L), counter-clockwise or not.
+PlasmaVelocity plasma_velocity(const ChannelMesh& mesh, const VelocityField& u, const std::vector<const Points*>& membranes);
 
 }  // namespace rbc

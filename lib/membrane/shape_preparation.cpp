@@ -58,10 +58,13 @@ PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   const int n = model.nodes;
   const double R0 = model.radius, pi = std::numbers::pi;
   PreparedShape out;
-  out.target_area = s_star * pi * R0 * R0;
+  const bool regular = s_star >= max_swelling_ratio(n);  // the regular N-gon at rest (see the header)
+  out.target_area = (regular ? max_swelling_ratio(n) : s_star) * pi * R0 * R0;
+  // The regular N-gon of side l0 = 2πR0/N: circumradius l0 / (2 sin(π/N)).
+  const double circumradius = model.rest_length() / (2 * std::sin(pi / n));
   Points circle(n);
-  for (int i = 0; i < n; ++i) circle[i] = R0 * Eigen::Vector2d(std::cos(2 * pi * i / n), std::sin(2 * pi * i / n));
-  if (s_star < 1.0) {
+  for (int i = 0; i < n; ++i) circle[i] = circumradius * Eigen::Vector2d(std::cos(2 * pi * i / n), std::sin(2 * pi * i / n));
+  if (!regular) {
     Problem pb{model, s_star * pi};
     pb.unit.radius = 1.0;
     pb.unit.kl = 1.0;
@@ -114,7 +117,7 @@ PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   const Eigen::Vector2d c = area_centroid(circle);
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   for (auto& p : circle) { p -= c; cov += p * p.transpose(); }
-  if (s_star < 1.0) {
+  if (!regular) {
     const double angle = 0.5 * std::atan2(2 * cov(0, 1), cov(0, 0) - cov(1, 1));
     const Eigen::Rotation2Dd rot(-angle);
     for (auto& p : circle) p = rot * p;
@@ -123,6 +126,11 @@ PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   out.area_error = (enclosed_area(circle) - out.target_area) / out.target_area;
   out.perimeter_error = (perimeter(circle) - 2 * pi * R0) / (2 * pi * R0);
   return out;
+}
+
+double max_swelling_ratio(int nodes) {
+  const double a = std::numbers::pi / nodes;
+  return a / std::tan(a);
 }
 
 Points place_shape(const PreparedShape& shape, const Eigen::Vector2d& centroid, double angle) {

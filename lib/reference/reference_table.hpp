@@ -1,6 +1,17 @@
 #pragma once
-// The study's published numbers and claims (reference-data/*.csv) and the comparison table an
-// experiment's --check prints: quantity, study, ours, tolerance, verdict (SPEC section 6).
+// The study's published numbers and claims (reference-data/*.csv), the deviations from them we
+// know and explain (reference-data/deviations/*.csv), and the comparison table an experiment's
+// --check prints: quantity, study, ours, ours − study, tolerance, verdict (SPEC section 6).
+//
+// Verdicts, so that CI can act on the table:
+//   PASS       |ours − study| within the tolerance fixed before the comparison;
+//   DEVIATION  outside it, and recorded as a known deviation whose band holds our value: the
+//              band is where our own value is expected from its measured h/Δt error or ensemble
+//              spread, not from the distance to the study;
+//   FAIL       outside the tolerance and not recorded, or recorded but outside the recorded band
+//              (the code changed the result).
+// Only FAIL makes --check exit 1. A DEVIATION never hides the distance: study, ours and
+// ours − study are printed on every row, the cause beside it.
 #include <map>
 #include <optional>
 #include <ostream>
@@ -24,6 +35,24 @@ std::vector<ReferenceRow> load_reference_table(const std::string& path);
 // reference-data/<name>.csv of the source tree.
 std::string reference_table_path(const std::string& name);
 
+// A deviation from the study we know and explain (reference-data/deviations/<experiment>.csv):
+// our value at the study's parameters, the band [low, high] our own value is expected in (the
+// row's unit), where the record applies ("study": only at the study's parameters; "any": also in
+// the quick CI runs, e.g. geometry), the cause we believe in and the evidence for it. A claim's
+// record has no value and no band: it says the claim does not hold for us.
+struct KnownDeviation {
+  std::string id;
+  std::optional<double> ours, low, high;
+  std::string applies;  // "study" or "any"
+  std::string cause, evidence;
+};
+
+// Reads a deviations table (an absent file is an empty table); throws std::runtime_error naming
+// the file, line and column on bad input.
+std::map<std::string, KnownDeviation> load_known_deviations(const std::string& path);
+// reference-data/deviations/<name>.csv of the source tree.
+std::string known_deviations_path(const std::string& name);
+
 // What an experiment measured for a row: a number (in the row's unit) or a claim's truth, with
 // a short note (e.g. the measured times behind a claim).
 struct Measured {
@@ -32,20 +61,44 @@ struct Measured {
   std::string note;
 };
 
+enum class Verdict { Pass, Deviation, Fail, NotRun, Context };
+const char* verdict_name(Verdict v);  // "PASS", "DEVIATION", "FAIL", "not run", "context"
+
+// One row of a comparison, as printed and as written to check.csv for the report's summary.
+struct ComparedRow {
+  const ReferenceRow* row = nullptr;
+  Verdict verdict = Verdict::NotRun;
+  std::string ours, difference, tolerance, study, note;  // formatted; note: the deviation's cause or why it failed
+};
+
 struct CheckSummary {
-  int passed = 0, failed = 0, not_run = 0;
+  int passed = 0, deviations = 0, failed = 0, not_run = 0;
+  std::vector<ComparedRow> rows;
   bool ok() const { return failed == 0; }
 };
 
-// Prints the comparison table (plain text, or Markdown when markdown = true); rows the run did
-// not measure are "not run" and are not failures.
+// Compares; at_study_parameters = false (a quick run) uses only the deviations recorded for
+// "any" parameters.
+CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
+                                    const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters);
+
+// Prints a comparison (plain text, or Markdown when markdown = true) ending with the counts of
+// the three verdicts; rows the run did not measure are "not run" and are not failures.
+void print_comparison(const CheckSummary& s, std::ostream& out, bool markdown = false);
+
+// The two above with no recorded deviations (tests of the checker itself).
 CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
                                      std::ostream& out, bool markdown = false);
 
-// An experiment's --check: compares with reference-data/<table>.csv, prints the table on out,
-// writes it as Markdown to <out_dir>/check.md (for the report), returns the exit code (0, or 1 on
-// a failed row).
-int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours,
-                        const std::string& out_dir, std::ostream& out);
+// An experiment's --check: compares with reference-data/<table>.csv and its recorded deviations,
+// prints the table on out, writes it as Markdown to <out_dir>/check.md and as CSV to
+// <out_dir>/check.csv (for the report), returns the exit code (0, or 1 on a FAIL).
+int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours, const std::string& out_dir,
+                        std::ostream& out, bool at_study_parameters = true);
+
+// The page a reader opens first: every published number and claim of the experiments named,
+// with study, ours, verdict and the experiment that checks it, read from reference-data/ and
+// <results_dir>/<experiment>/check.csv (an experiment without one: "not run"). Markdown.
+void write_study_summary(const std::vector<std::string>& experiments, const std::string& results_dir, std::ostream& out);
 
 }  // namespace rbc

@@ -246,6 +246,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   series.precision(10);
   if (fresh) {
     series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
+    if (!cells.empty()) series << ",plasma_flux_velocity,plasma_open_velocity";
     for (std::size_t k = 0; k < cells.size(); ++k)
       for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
     series << "\n";
@@ -265,6 +266,12 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     u_count = 0;
     series << sim.time() << "," << last_mean << "," << reynolds_number(last_mean, scene.fluid, scene.height) << ","
            << hematocrit_percent(cells, fluid_area) << "," << max_speed(flow.velocity()) << "," << sim.last_cg_iterations() << "," << sim.last_coupling_iterations();
+    if (!cells.empty()) {  // the plasma alone, at the sample's instant (flow_diagnostics.hpp)
+      std::vector<const Points*> membranes;
+      for (const Cell& c : cells) membranes.push_back(&c.nodes);
+      const PlasmaVelocity pv = plasma_velocity(flow.mesh(), flow.velocity(), membranes);
+      series << "," << pv.flux_per_height << "," << pv.over_open_height;
+    }
     for (const Cell& c : cells) {
       const CellState s = measure_cell(c, l0);
       series << "," << s.centroid.x() << "," << s.centroid.y() << "," << s.area << "," << s.perimeter << ","

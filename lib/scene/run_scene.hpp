@@ -2,7 +2,8 @@
 // Runs a scene to its end and writes the outputs of SPEC section 8 into the output folder:
 //   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, hematocrit, cells, disks, …
 //   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
-//                 then per cell k: cellk_x, cellk_y, cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
+//                 coupling_iterations, with cells plasma_flux_velocity and plasma_open_velocity (the
+//                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp), then per cell k: cellk_x, cellk_y, cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
 //   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
 //   membranes_final.dat  the membranes at the end
 //   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
