@@ -1,20 +1,28 @@
 #!/usr/bin/env bash
-# Writes the reproduction report paper/report/README.md: runs each experiment named on the
-# command line with --check, draws its figures with its gnuplot script, and records the commit,
-# date, machine and command. Called by `make reproduce` (QUICK=1 for the CI parameters).
+# Writes the reproduction report: runs each experiment named on the command line with --check,
+# draws its figures with its gnuplot script, opens the report with the table of all the study's
+# numbers (build/bin/rbcflow summary) and records the commit, date, machine and command.
+# Called by `make reproduce`: the full report goes to paper/report/README.md (committed); with
+# QUICK=1 (the CI parameters) to results/report/README.md, so that a quick run never overwrites
+# the committed full-parameter report. REUSE=1 reads the finished runs under results/ (the
+# experiments' --reuse) instead of running them again, and recomputes every verdict.
+# Exit status: 0, or 1 if an experiment stopped with an error, a figure failed or a row FAILed.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 QUICK=${QUICK:-0}
-report=paper/report
+results=results
+mkdir -p "$results"
+if [ "$QUICK" = "1" ]; then report=$results/report; else report=paper/report; fi
 mkdir -p "$report/figures"
 quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
-command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')"
+command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ "${REUSE:-0}" = "1" ] && echo ' REUSE=1')"
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 dirty=$(git status --porcelain -- . ':!paper/report' 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)  # the report itself does not count
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 
 out="$report/README.md.tmp"
+body="$report/body.md.tmp"
 {
   echo "# rbcflow reproduction report"
   echo
@@ -29,29 +37,31 @@ out="$report/README.md.tmp"
   echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB |"
   echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo 'full (the study'"'"'s)') |"
   echo
-  echo "Each section: what the experiment checks, the comparison with reference-data/ (study, ours,"
-  echo "tolerance, verdict), the run time and the figures. Experiments not yet implemented are listed"
-  echo "at the end."
+  echo "Verdicts: **PASS** within the tolerance fixed before the comparison; **DEVIATION** outside it and"
+  echo "recorded in reference-data/deviations/ with our expected band, the cause we believe in and its"
+  echo "evidence; **FAIL** outside the tolerance and not explained, or a recorded deviation that moved."
+  echo "Each experiment's section below has its full table (with ours − study and the cause of every"
+  echo "deviation), the run time and the figures."
   echo
 } > "$out"
+: > "$body"
 
 status=0
 for exp in "$@"; do
-  dir="results/$exp"
+  dir="$results/$exp"
   # REUSE=1: write the report from results already on disk (from the same experiment binary and
   # parameters), e.g. after a long run started by hand; the report says so.
-  if [ "${REUSE:-0}" = "1" ] && [ -f "$dir/check.md" ]; then
-    echo "rbcflow: reusing $dir" >&2
-    grep -q FAIL "$dir/check.md" && rc=1 || rc=0
-    wall="(reused results of an earlier run of the same command: see the run times below)"
-  else
-    echo "rbcflow: running $exp $quick_flag --check" >&2
-    start=$(date +%s)
-    "$BUILD/bin/$exp" --out "$dir" --check $quick_flag > "$dir.log" 2>&1
-    rc=$?
-    wall="$(( $(date +%s) - start )) s"
+  reuse_flag=""; wall_note=""
+  if [ "${REUSE:-0}" = "1" ] && "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--reuse'; then
+    reuse_flag="--reuse"; wall_note=" (finished runs read back with --reuse: their run times are in the table below)"
   fi
-  [ "$rc" -ge 2 ] && status=1  # a failed row is reported in the table, not an error of the run
+  echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
+  start=$(date +%s)
+  "$BUILD/bin/$exp" --out "$dir" --check $quick_flag $reuse_flag > "$dir.log" 2>&1
+  rc=$?
+  wall="$(( $(date +%s) - start )) s$wall_note"
+  [ "$rc" -ne 0 ] && status=1  # 1: a row FAILed (the table says which); 2 or more: the run stopped
+  [ "$rc" -ge 2 ] && tail -3 "$dir.log" >&2
   gnuplot -e "dir='$dir'; figdir='$report/figures'" "experiments/$exp/plot.gp" || status=1
   {
     echo "## $exp"
@@ -62,6 +72,12 @@ for exp in "$@"; do
     echo
     [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
     echo
+    if [ -f "$dir/regression.md" ]; then
+      echo "The quick case's own numbers against its committed regression record (reference-data/regression/):"
+      echo
+      cat "$dir/regression.md"
+      echo
+    fi
     if [ -f "$dir/cases.csv" ]; then
       echo "Every run of this experiment (wall time per run, one thread each; Re averaged over the last sample interval):"
       echo
@@ -73,6 +89,12 @@ for exp in "$@"; do
       echo "### Error against run time"
       echo
       cat "$dir/convergence.md"
+      echo
+    fi
+    if [ -f "$dir/re_evidence.md" ]; then
+      echo "### What could explain the Reynolds numbers with the cell"
+      echo
+      cat "$dir/re_evidence.md"
       echo
     fi
     if [ -f "$dir/units_evidence.md" ]; then
@@ -92,16 +114,22 @@ for exp in "$@"; do
     for fig in "$report/figures/${exp}"_*.png; do
       [ -f "$fig" ] && echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))" && echo
     done
-  } >> "$out"
+  } >> "$body"
 done
 
 {
+  echo "## All the study's numbers"
+  echo
+  "$BUILD/bin/rbcflow" summary --results "$results" || { echo "(the summary table failed)"; status=1; }
+  echo
+  cat "$body"
   echo "## Not yet reproduced"
   echo
   for exp in single_cell_migration four_cells_vs_disks cell_free_layer constriction; do
     [ -x "$BUILD/bin/$exp" ] || echo "- $exp: its published numbers are in reference-data/$exp.csv, checked when it lands."
   done
 } >> "$out"
+rm -f "$body"
 mv "$out" "$report/README.md"
 echo "rbcflow: report written to $report/README.md" >&2
 exit $status

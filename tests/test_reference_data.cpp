@@ -2,11 +2,14 @@
 // verdicts are right, and the study's cell-free channels pass their rows when rbcflow runs them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "reference/reference_table.hpp"
+#include "reference/regression_record.hpp"
 #include "channel_flow/channel_flow.hpp"
 #include "scene/run_scene.hpp"
 
@@ -48,6 +51,101 @@ TEST(ReferenceData, CheckerPassesWithinToleranceFailsOutsideAndSkipsWhatDidNotRu
   EXPECT_NE(out.str().find("FAIL"), std::string::npos);
 }
 
+TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutsideIt) {
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r"}};
+  const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
+  // Outside the study's 1 %, inside our own band: a DEVIATION, which is not a failure.
+  CheckSummary s = compare_with_reference(rows, {{"re", {0.5205, {}, ""}}}, dev, true);
+  EXPECT_EQ(s.deviations, 1);
+  EXPECT_EQ(s.failed, 0);
+  EXPECT_TRUE(s.ok());
+  EXPECT_EQ(s.rows[0].note.substr(0, 5), "cause");
+  EXPECT_EQ(s.rows[0].difference, "+0.0205");  // the distance to the study stays visible
+  // The code moved the result out of the recorded band: a FAIL, though it is a known deviation.
+  s = compare_with_reference(rows, {{"re", {0.523, {}, ""}}}, dev, true);
+  EXPECT_EQ(s.failed, 1);
+  EXPECT_FALSE(s.ok());
+  // Within the study's tolerance: a PASS (with a note that the record is stale).
+  s = compare_with_reference(rows, {{"re", {0.502, {}, ""}}}, dev, true);
+  EXPECT_EQ(s.passed, 1);
+  EXPECT_FALSE(s.rows[0].note.empty());
+  // Not recorded and outside the tolerance: a FAIL.
+  s = compare_with_reference(rows, {{"re", {0.5205, {}, ""}}}, {}, true);
+  EXPECT_EQ(s.failed, 1);
+}
+
+TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun) {
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r"}};
+  std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
+  EXPECT_EQ(compare_with_reference(rows, {{"re", {0.52, {}, ""}}}, dev, false).failed, 1);
+  dev["re"].applies = "any";
+  EXPECT_EQ(compare_with_reference(rows, {{"re", {0.52, {}, ""}}}, dev, false).deviations, 1);
+}
+
+TEST(ReferenceData, ClaimRecordedAsNotHoldingIsADeviationAndAHoldingClaimPasses) {
+  const std::vector<ReferenceRow> rows = {{"c", "a claim", std::nullopt, "", 0, "claim", "claim", "Fig. 5", "r"}};
+  const std::map<std::string, KnownDeviation> dev = {{"c", {"c", {}, {}, {}, "study", "cause", "evidence"}}};
+  EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, false, ""}}}, dev, true).deviations, 1);
+  EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, true, ""}}}, dev, true).passed, 1);
+  EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, false, ""}}}, {}, true).failed, 1);
+}
+
+TEST(ReferenceData, EveryKnownDeviationNamesARowItsValueLiesInItsBandAndItHasCauseAndEvidence) {
+  for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}) {
+    const auto rows = load_reference_table(reference_table_path(name));
+    for (const auto& [id, d] : load_known_deviations(known_deviations_path(name))) {  // the loader checks band, cause, evidence
+      const auto row = std::find_if(rows.begin(), rows.end(), [&](const ReferenceRow& r) { return r.id == id; });
+      ASSERT_NE(row, rows.end()) << name << ": " << id;
+      // A recorded deviation is outside the study's tolerance (else it is no deviation).
+      if (d.ours) {
+        const double allowed = row->tolerance_type == "rel" ? row->tolerance * std::abs(*row->value) : row->tolerance;
+        EXPECT_GT(std::abs(*d.ours - *row->value), allowed) << name << ": " << id;
+      }
+    }
+  }
+}
+
+TEST(ReferenceData, BadDeviationRecordIsRejectedNamingTheLine) {
+  const auto path = std::filesystem::temp_directory_path() / "rbcflow_bad_deviation.csv";
+  std::ofstream(path) << "id,ours,band_low,band_high,applies,cause,evidence\n"
+                      << "re,0.52,0.519,0.5195,study,cause,evidence\n";  // ours outside its own band
+  try {
+    load_known_deviations(path.string());
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+  }
+}
+
+TEST(RegressionRecord, CheckFailsOutsideTheBandOrWhenARowIsMissingAndEveryRecordLoads) {
+  const std::vector<RegressionRow> rec = {{"y", "height", 4.0, "um", 1e-8, "rel", "why", "c", "d", "cmd"},
+                                          {"d", "drift", 1e-6, "", 1e-12, "abs", "why", "c", "d", "cmd"}};
+  std::ostringstream out;
+  EXPECT_TRUE(compare_with_record(rec, {{"y", {"", "", 4.0 + 3e-8}}, {"d", {"", "", 1e-6 + 5e-13}}}, out).ok());
+  EXPECT_EQ(compare_with_record(rec, {{"y", {"", "", 4.0 + 5e-8}}, {"d", {"", "", 1e-6}}}, out).failed, 1);
+  EXPECT_EQ(compare_with_record(rec, {{"y", {"", "", 4.0}}}, out).failed, 1);  // d missing
+  EXPECT_EQ(compare_with_record(rec, {{"y", {"", "", NAN}}, {"d", {"", "", 1e-6}}}, out).failed, 1);
+  for (const char* name : {"channel_flow", "single_cell_migration", "stability_map"}) {
+    const auto rows = load_regression_record(regression_record_path(name));  // every band measured and explained
+    EXPECT_FALSE(rows.empty()) << name;
+  }
+}
+
+TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperimentsWithoutResults) {
+  const auto dir = std::filesystem::temp_directory_path() / "rbcflow_summary";
+  std::filesystem::create_directories(dir / "single_cell_migration");
+  std::ofstream(dir / "single_cell_migration" / "check.csv") << "id,ours,verdict,note\n"
+                                                              << "hct_s055,6.7733,PASS,\n"
+                                                              << "hct_s10,12.308,DEVIATION,cause\n";
+  std::ostringstream out;
+  write_study_summary({"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}, dir.string(), out);
+  const std::string s = out.str();
+  // 6 + 10 + 6 + 5 numbers checked, the 2 empirical estimates as context: the study's 29 numbers.
+  EXPECT_NE(s.find("27 checked, 2 printed as context"), std::string::npos) << s;
+  EXPECT_NE(s.find("1 PASS, 1 DEVIATION, 0 FAIL"), std::string::npos) << s;
+  EXPECT_NE(s.find("| constriction | mean velocity in the narrow part | 3.33 cm/s | - | not run |"), std::string::npos) << s;
+}
+
 TEST(ReferenceData, MalformedTableIsRejectedNamingTheLine) {
   const auto path = std::filesystem::temp_directory_path() / "rbcflow_bad_table.csv";
   std::ofstream(path) << "id,quantity,value,unit,tolerance,tolerance_type,kind,source,reason\n"
@@ -73,6 +171,12 @@ TEST(ChannelFlowExperiment, CellFreeChannelsReproduceTheStudysMeanVelocityAndRey
   std::printf("%s", table.str().c_str());
   EXPECT_EQ(c.failed, 0);
   EXPECT_EQ(c.passed, 4);
+  // The quick case's own numbers against its committed record.
+  std::ostringstream reg;
+  const RegressionSummary r = compare_with_record(load_regression_record(regression_record_path("channel_flow")), res.quick_record, reg);
+  std::printf("%s", reg.str().c_str());
+  EXPECT_TRUE(r.ok());
+  EXPECT_EQ(r.unrecorded, 0);
   // The profile is the parabola at the nodes (exact for the 5-point Laplacian), to round-off.
   for (const auto& [name, r] : res.channels) EXPECT_LT(r.profile_error, 1e-9) << name;
 }

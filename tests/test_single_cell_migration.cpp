@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <sstream>
 
+#include "reference/regression_record.hpp"
 #include "single_cell_migration/single_cell_migration.hpp"
 
 namespace rbc {
@@ -35,6 +37,36 @@ TEST(SingleCellMigrationExperiment, QuickRunMigratesTowardTheCentrelineAndDeform
   // The hematocrit rows are geometry: they pass for the prepared shapes s* = 0.55 and 0.7.
   EXPECT_NEAR(r.measured.at("hct_s055").value.value(), 6.77, 0.005);
   EXPECT_NEAR(r.measured.at("hct_s07").value.value(), 8.62, 0.005);
+  // The study's rows a quick run measures: no FAIL (s* = 1's hematocrit is a recorded deviation).
+  const auto study = compare_with_reference(load_reference_table(reference_table_path("single_cell_migration")), r.measured,
+                                            load_known_deviations(known_deviations_path("single_cell_migration")), false);
+  EXPECT_TRUE(study.ok());
+  EXPECT_EQ(study.deviations, 1);
+  // The quick case's own numbers against its committed record (reference-data/regression/).
+  std::ostringstream reg;
+  const RegressionSummary rs = compare_with_record(load_regression_record(regression_record_path("single_cell_migration")), r.quick_record, reg);
+  std::printf("%s", reg.str().c_str());
+  EXPECT_TRUE(rs.ok());
+  EXPECT_EQ(rs.unrecorded, 0);
+}
+
+// The regression record can fail: bending 10 % stiffer (one cell, s* = 0.55) moves the quick
+// case's height, shape and Re out of their round-off bands.
+TEST(SingleCellMigrationExperiment, TenPercentStifferBendingTurnsTheQuickRegressionCheckRed) {
+  auto p = single_cell_migration::Params::quick_params();
+  p.progress = false;
+  p.swelling_ratios = {0.55};
+  p.membrane.kb *= 1.1;
+  p.out_dir = (std::filesystem::temp_directory_path() / "rbcflow_scm_quick_kb").string();
+  const auto r = single_cell_migration::run(p);
+  std::vector<RegressionRow> rows;
+  for (const auto& row : load_regression_record(regression_record_path("single_cell_migration")))
+    if (row.id.ends_with("_s055") && !row.id.starts_with("hct0")) rows.push_back(row);  // the prepared shape does not see k_b much
+  ASSERT_EQ(rows.size(), 6u);
+  std::ostringstream reg;
+  const RegressionSummary rs = compare_with_record(rows, r.quick_record, reg);
+  std::printf("%s", reg.str().c_str());
+  EXPECT_EQ(rs.failed, 6) << "every dynamic row of the s* = 0.55 cell must leave its band";
 }
 
 }  // namespace

@@ -1,15 +1,19 @@
 // rbcflow — the generic scene runner (SPEC section 8).
 //   build/bin/rbcflow run SCENE.toml --out DIR [--threads N] [--set key=value ...]
 //   build/bin/rbcflow resume DIR [--threads N]     (continue from DIR/checkpoint.bin to the end)
+//   build/bin/rbcflow summary [--results DIR] [EXPERIMENT ...]
+//                     the table of all the study's numbers (Markdown), from DIR/<experiment>/check.csv
 // Exit codes: 0 done; 1 internal error; 2 bad input (scene, scene file, checkpoint, output folder);
 // 105/106/109 a command line CLI11 refuses (bad value, no command, unknown option); 3 the run
 // went unstable (last good checkpoint kept); 128 + signal when stopped by SIGINT/SIGTERM
 // (checkpoint written).
 #include <cstdio>
+#include <iostream>
 
 #include <CLI/CLI.hpp>
 
 #include "io/checkpoint.hpp"
+#include "reference/reference_table.hpp"
 #include "scene/run_scene.hpp"
 
 int main(int argc, char** argv) {
@@ -39,13 +43,24 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1e9))->capture_default_str();
     sub->add_flag("--quiet", quiet, "no progress line");
   }
-  if (argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "run" && std::string(argv[1]) != "resume") {
-    std::fprintf(stderr, "rbcflow: error: unknown command '%s' (commands: run, resume; see rbcflow --help)\n", argv[1]);
+  std::string results_dir = "results";
+  std::vector<std::string> experiments = {"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction",
+                                          "channel_flow"};
+  CLI::App* summary = app.add_subcommand("summary", "print the table of all the study's numbers (Markdown) from the experiments' check.csv");
+  summary->add_option("--results", results_dir, "folder holding <experiment>/check.csv (default results)");
+  summary->add_option("experiments", experiments, "experiments, in order (default: the study's four, then channel_flow)");
+  if (argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "run" && std::string(argv[1]) != "resume" &&
+      std::string(argv[1]) != "summary") {
+    std::fprintf(stderr, "rbcflow: error: unknown command '%s' (commands: run, resume, summary; see rbcflow --help)\n", argv[1]);
     return 106;  // CLI11's code for a missing subcommand
   }
   CLI11_PARSE(app, argc, argv);
 
   try {
+    if (summary->parsed()) {
+      rbc::write_study_summary(experiments, results_dir, std::cout);
+      return 0;
+    }
     rbc::Scene scene;
     if (resume->parsed()) {
       out_dir = resume_dir;
