@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iostream>
 #include <sstream>
 
 #include "reference/regression_record.hpp"
@@ -43,11 +44,7 @@ TEST(SingleCellMigrationExperiment, QuickRunMigratesTowardTheCentrelineAndDeform
   EXPECT_TRUE(study.ok());
   EXPECT_EQ(study.deviations, 1);
   // The quick case's own numbers against its committed record (reference-data/regression/).
-  std::ostringstream reg;
-  const RegressionSummary rs = compare_with_record(load_regression_record(regression_record_path("single_cell_migration")), r.quick_record, reg);
-  std::printf("%s", reg.str().c_str());
-  EXPECT_TRUE(rs.ok());
-  EXPECT_EQ(rs.unrecorded, 0);
+  EXPECT_EQ(run_regression_check("single_cell_migration", r.quick_record, p.out_dir, std::cout), 0);
 }
 
 // The regression record can fail: bending 10 % stiffer (one cell, s* = 0.55) moves the quick

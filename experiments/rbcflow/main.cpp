@@ -44,11 +44,10 @@ int main(int argc, char** argv) {
     sub->add_flag("--quiet", quiet, "no progress line");
   }
   std::string results_dir = "results";
-  std::vector<std::string> experiments = {"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction",
-                                          "channel_flow"};
+  std::vector<std::string> experiments = {"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"};
   CLI::App* summary = app.add_subcommand("summary", "print the table of all the study's numbers (Markdown) from the experiments' check.csv");
   summary->add_option("--results", results_dir, "folder holding <experiment>/check.csv (default results)");
-  summary->add_option("experiments", experiments, "experiments, in order (default: the study's four, then channel_flow)");
+  summary->add_option("experiments", experiments, "experiments, in order (default: the study's four)");
   if (argc > 1 && argv[1][0] != '-' && std::string(argv[1]) != "run" && std::string(argv[1]) != "resume" &&
       std::string(argv[1]) != "summary") {
     std::fprintf(stderr, "rbcflow: error: unknown command '%s' (commands: run, resume, summary; see rbcflow --help)\n", argv[1]);

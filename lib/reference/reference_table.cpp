@@ -250,7 +250,7 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
             << verdict << (bold ? "**" : "") << " | " << md_cell(r.source) << " |\n";
     }
   }
-  out << "The study's published numbers (" << numbers << " checked, " << context
+  out << "The study's published numbers (" << numbers + context << ": " << numbers << " checked, " << context
       << " printed as context) and claims (" << claims << "): " << count[Verdict::Pass] << " PASS, " << count[Verdict::Deviation]
       << " DEVIATION, " << count[Verdict::Fail] << " FAIL, " << count[Verdict::NotRun]
       << " not run. A DEVIATION is a recorded, explained difference (its cause is beside the row in the experiment's "

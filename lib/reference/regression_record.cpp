@@ -101,9 +101,9 @@ RegressionSummary compare_with_record(const std::vector<RegressionRow>& record, 
     for (const auto& r : record) recorded = recorded || r.id == id;
     if (recorded) continue;
     ++s.unrecorded;
-    print(o.quantity + (o.unit.empty() ? "" : " (" + o.unit + ")"), "-", fmt(o.value), "", "", "not recorded");
+    print(o.quantity + (o.unit.empty() ? "" : " (" + o.unit + ")"), "-", fmt(o.value), "", "", "FAIL (not recorded)");
   }
-  out << (md ? "\n" : "") << s.passed << " PASS, " << s.failed << " FAIL against the quick case's regression record";
+  out << (md ? "\n" : "") << s.passed << " PASS, " << s.failed + s.unrecorded << " FAIL against the quick case's regression record";
   if (!record.empty()) out << " (values of commit " << record.front().commit << ", " << record.front().date << ")";
   out << "\n";
   return s;

@@ -38,11 +38,11 @@ std::vector<RegressionRow> load_regression_record(const std::string& path);
 
 struct RegressionSummary {
   int passed = 0, failed = 0, unrecorded = 0;
-  bool ok() const { return failed == 0; }
+  bool ok() const { return failed == 0 && unrecorded == 0; }
 };
 
 // Compares and prints (plain text, or Markdown): quantity, recorded, ours, ours − recorded, band,
-// verdict; a value without a record row is listed as "not recorded" (not a failure).
+// verdict. A value without a record row is "not recorded" and fails too: the record is stale.
 RegressionSummary compare_with_record(const std::vector<RegressionRow>& record, const std::map<std::string, Observed>& ours,
                                       std::ostream& out, bool markdown = false);
 

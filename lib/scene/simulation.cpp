@@ -120,4 +120,12 @@ void Simulation::load(CheckpointReader& r) {
   if (semi_implicit_step_) semi_implicit_step_->load(r, cells_);
 }
 
+void Simulation::place_cell(std::size_t k, const Points& nodes) {
+  if (k >= cells_.size() || nodes.size() != cells_[k].nodes.size() || steps() > 0)
+    throw std::invalid_argument("place_cell: no such cell, another node count, or the run has begun");
+  cells_[k].nodes = nodes;
+  cells_[k].prepared_area = enclosed_area(nodes);
+  cells_[k].prepared_perimeter = perimeter(nodes);
+}
+
 }  // namespace rbc

@@ -50,6 +50,12 @@ class Simulation {
   // The fluid as the developed cell-free profile instead of rest (the study starts from rest;
   // benchmarks use this to time steps in a flow that moves the cells as a long run does).
   void start_from_cell_free_profile() { flow_.set_poiseuille(); }
+  // Cell k starts from the caller's own nodes instead of its prepared shape (same target area;
+  // the area drift is then measured from these nodes), before the first step. A start away from
+  // rest: e.g. the polygon inscribed in the circle of radius R0, whose springs are 0.0285 % short
+  // of l0 (tests of the health check's start-up rule). Throws std::invalid_argument if k or the
+  // node count is wrong or the run has begun.
+  void place_cell(std::size_t k, const Points& nodes);
   // Stops the run (RunFailure) on non-finite values, a CFL number above the stability limit,
   // a membrane strain above kMaxMembraneStrain, a membrane node outside the channel, or a fluid
   // that has been faster than kMaxSpeedRatio times the flow's peak for too long (call it after
