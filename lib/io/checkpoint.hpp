@@ -25,7 +25,9 @@ struct CheckpointError : std::runtime_error {
 
 // 2: the semi-implicit coupling also keeps the right-hand sides of its last two steps.
 // 3: the simulation also keeps the time its fluid has spent above the speed limit (check_health).
-inline constexpr std::uint32_t kCheckpointFormat = 3;
+// 4: same payload; series.csv with cells has two more columns (the plasma alone) and the s* = 1
+//    cell is the regular polygon at rest, so a run of format 3 cannot be continued by this one.
+inline constexpr std::uint32_t kCheckpointFormat = 4;
 
 class CheckpointWriter {
  public:
