@@ -37,10 +37,10 @@ TEST(ReferenceData, EveryTableLoadsAndEveryNumberHasAToleranceAndReason) {
 
 TEST(ReferenceData, CheckerPassesWithinToleranceFailsOutsideAndSkipsWhatDidNotRun) {
   const std::vector<ReferenceRow> rows = {
-      {"a", "quantity a", 10.0, "um", 0.5, "abs", "number", "Fig. 1", "r"},
-      {"b", "quantity b", 2.0, "", 0.01, "rel", "number", "Fig. 1", "r"},
-      {"c", "claim c", std::nullopt, "", 0, "claim", "claim", "Fig. 2", "r"},
-      {"d", "not measured", 1.0, "", 0.1, "abs", "number", "Fig. 3", "r"},
+      {"a", "quantity a", 10.0, "um", 0.5, "abs", "number", "Fig. 1", "r", ""},
+      {"b", "quantity b", 2.0, "", 0.01, "rel", "number", "Fig. 1", "r", ""},
+      {"c", "claim c", std::nullopt, "", 0, "claim", "claim", "Fig. 2", "r", ""},
+      {"d", "not measured", 1.0, "", 0.1, "abs", "number", "Fig. 3", "r", ""},
   };
   std::ostringstream out;
   std::map<std::string, Measured> ours = {{"a", {10.4, {}, ""}}, {"b", {2.03, {}, ""}}, {"c", {{}, true, ""}}};
@@ -53,7 +53,7 @@ TEST(ReferenceData, CheckerPassesWithinToleranceFailsOutsideAndSkipsWhatDidNotRu
 }
 
 TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutsideIt) {
-  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r"}};
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r", ""}};
   const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
   // Outside the study's 1 %, inside our own band: a DEVIATION, which is not a failure.
   CheckSummary s = compare_with_reference(rows, {{"re", {0.5205, {}, ""}}}, dev, true);
@@ -76,7 +76,7 @@ TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutside
 }
 
 TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun) {
-  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r"}};
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r", ""}};
   std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
   EXPECT_EQ(compare_with_reference(rows, {{"re", {0.52, {}, ""}}}, dev, false).failed, 1);
   dev["re"].applies = "any";
@@ -84,7 +84,7 @@ TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun)
 }
 
 TEST(ReferenceData, ClaimRecordedAsNotHoldingIsADeviationAndAHoldingClaimPasses) {
-  const std::vector<ReferenceRow> rows = {{"c", "a claim", std::nullopt, "", 0, "claim", "claim", "Fig. 5", "r"}};
+  const std::vector<ReferenceRow> rows = {{"c", "a claim", std::nullopt, "", 0, "claim", "claim", "Fig. 5", "r", ""}};
   const std::map<std::string, KnownDeviation> dev = {{"c", {"c", {}, {}, {}, "study", "cause", "evidence"}}};
   EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, false, ""}}}, dev, true).deviations, 1);
   EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, true, ""}}}, dev, true).passed, 1);

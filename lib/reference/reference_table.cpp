@@ -30,6 +30,12 @@ std::string fmt_difference(double d) {
   return b;
 }
 
+// The study's value with its own digits and unit, or "holds" for a claim.
+std::string study_value(const ReferenceRow& r) {
+  if (!r.value) return "holds";
+  return (r.value_text.empty() ? fmt(*r.value) : r.value_text) + (r.unit.empty() ? "" : " " + r.unit);
+}
+
 std::string md_cell(std::string s) {
   for (auto& c : s)
     if (c == '|' || c == '\n') c = c == '|' ? '/' : ' ';
@@ -61,7 +67,7 @@ std::vector<ReferenceRow> load_reference_table(const std::string& path) {
   std::vector<ReferenceRow> rows;
   for (const CsvRecord& rec : read_csv_table(path, kColumns)) {
     const auto& f = rec.fields;
-    ReferenceRow r{f[0], f[1], std::nullopt, f[3], 0.0, f[5], f[6], f[7], f[8]};
+    ReferenceRow r{f[0], f[1], std::nullopt, f[3], 0.0, f[5], f[6], f[7], f[8], f[2]};
     if (r.kind != "number" && r.kind != "claim" && r.kind != "context")
       throw std::runtime_error(rec.where + ": kind must be number, claim or context, not '" + r.kind + "'");
     if (r.kind == "number") {
@@ -110,7 +116,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
   for (const ReferenceRow& r : rows) {
     ComparedRow c;
     c.row = &r;
-    c.study = r.value ? fmt(*r.value) + (r.unit.empty() ? "" : " " + r.unit) : "holds";
+    c.study = study_value(r);
     c.ours = "-";
     if (r.kind == "number") c.tolerance = r.tolerance_type == "rel" ? fmt(100 * r.tolerance) + " %" : fmt(r.tolerance) + " " + r.unit;
     const auto it = ours.find(r.id);
@@ -244,7 +250,7 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
       if (r.kind != "context")
         for (Verdict v : {Verdict::Pass, Verdict::Deviation, Verdict::Fail, Verdict::NotRun})
           if (verdict == verdict_name(v)) ++count[v];
-      const std::string study = r.value ? fmt(*r.value) + (r.unit.empty() ? "" : " " + r.unit) : "holds";
+      const std::string study = study_value(r);
       const bool bold = verdict == "PASS" || verdict == "DEVIATION" || verdict == "FAIL";
       table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << md_cell(mine) << " | " << (bold ? "**" : "")
             << verdict << (bold ? "**" : "") << " | " << md_cell(r.source) << " |\n";

@@ -28,6 +28,7 @@ struct ReferenceRow {
   std::string tolerance_type;  // "abs", "rel" or "claim"
   std::string kind;            // "number", "claim" or "context"
   std::string source, reason;
+  std::string value_text;  // the value as the table writes it (the study's digits: 2.710, not 2.71)
 };
 
 // Reads one table; throws std::runtime_error naming the file, line and column on bad input.
