@@ -53,7 +53,7 @@ for exp in "$@"; do
   # parameters), e.g. after a long run started by hand; the report says so.
   reuse_flag=""; wall_note=""
   if [ "${REUSE:-0}" = "1" ] && "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--reuse'; then
-    reuse_flag="--reuse"; wall_note=" (finished runs read back with --reuse: their run times are in the table below)"
+    reuse_flag="--reuse"; wall_note=" (with --reuse: cases finished on disk are read back, not run again; each case's own run time is in the tables below)"
   fi
   echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
   start=$(date +%s)
@@ -68,7 +68,7 @@ for exp in "$@"; do
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
-    echo "Run: \`$BUILD/bin/$exp --check $quick_flag\` — wall time ${wall}, exit code $rc."
+    echo "Run: \`$BUILD/bin/$exp --check $quick_flag $reuse_flag\` — wall time ${wall}, exit code $rc."
     echo
     [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
     echo
