@@ -26,15 +26,8 @@ int main(int argc, char** argv) {
     for (const auto& [name, r] : res.channels)
       std::printf("%-6s: %ld steps, %.1f s wall; max |u1 - parabola|/peak = %.2e; start-up max |U - U_exact|/U0 = %.2e\n",
                   name.c_str(), r.summary.steps, r.summary.wall_seconds, r.profile_error, r.startup_error);
-    if (record) {
-      if (!p.quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
-      rbc::write_regression_record("channel_flow", res.quick_record, "build/bin/channel_flow --quick --record-regression");
-      std::printf("wrote %s\n", rbc::regression_record_path("channel_flow").c_str());
-    }
-    if (!check) return 0;
-    const int study = rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout);
-    const int regression = p.quick ? rbc::run_regression_check("channel_flow", res.quick_record, p.out_dir, std::cout) : 0;
-    return std::max(study, regression);
+    const int study = check ? rbc::run_reference_check("channel_flow", res.measured, p.out_dir, std::cout) : 0;
+    return std::max(study, rbc::handle_quick_record("channel_flow", res.quick_record, p.quick, record, check, p.out_dir, std::cout));
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "channel_flow: %s; continue with the same command and --resume\n", e.what());
     return 128 + e.signal;

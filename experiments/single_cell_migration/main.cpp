@@ -55,16 +55,10 @@ int main(int argc, char** argv) {
                   cell.shape.kind.c_str(), cell.area_drift);
     }
     if (!r.units_evidence.empty()) std::ofstream(p.out_dir + "/units_evidence.md") << r.units_evidence;
-    if (record) {
-      if (!quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
-      rbc::write_regression_record("single_cell_migration", r.quick_record, "build/bin/single_cell_migration --quick --record-regression");
-      std::printf("wrote %s\n", rbc::regression_record_path("single_cell_migration").c_str());
-    }
-    if (!check) return 0;
-    if (!p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (or add --reuse after running the parts)");
-    const int study = rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout, !quick);
-    const int regression = quick ? rbc::run_regression_check("single_cell_migration", r.quick_record, p.out_dir, std::cout) : 0;
-    return std::max(study, regression);
+    if (check && !p.only.empty())
+      throw std::invalid_argument("--check compares the whole experiment: drop --only (or add --reuse after running the parts)");
+    const int study = check ? rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout, !quick) : 0;
+    return std::max(study, rbc::handle_quick_record("single_cell_migration", r.quick_record, quick, record, check, p.out_dir, std::cout));
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 128 + e.signal;

@@ -87,6 +87,9 @@ double estimated_work(const Scene& s) {
   return std::round(s.end / s.dt) * nodes * (s.coupling == "semi-implicit" ? kSemiImplicitStepCost : 1.0);
 }
 
+// The suffix of each swelling ratio's rows in reference-data/single_cell_migration.csv.
+const std::map<double, std::string> kRowIds = {{0.55, "s055"}, {0.7, "s07"}, {1.0, "s10"}};
+
 std::string re_case_name(double h, double dt, double s) {
   char b[64];
   std::snprintf(b, sizeof b, "re_h%g_dt%g_%s", h * 1e6, dt, tag(s).c_str());
@@ -178,10 +181,10 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
 void re_evidence_table(const Params& p, Results& res) {
   const FluidProperties fluid = Scene{}.fluid;
   const double H = 10e-6;
-  std::map<double, std::string> study;
+  std::map<double, std::string> study;  // the study's Re, with its own digits
   for (const ReferenceRow& r : load_reference_table(reference_table_path("single_cell_migration")))
-    for (double s : p.swelling_ratios)
-      if (r.id == "re_" + std::string(s == 0.55 ? "s055" : s == 0.7 ? "s07" : "s10")) study[s] = std::to_string(*r.value).substr(0, 6);
+    for (const auto& [s, id] : kRowIds)
+      if (r.id == "re_" + id) study[s] = r.value_text;
   auto re_of = [&](const std::string& name) -> double {
     const auto it = res.cases.find(name);
     return it == res.cases.end() || !it->second.failure.empty() ? NAN : it->second.summary.reynolds;
@@ -386,7 +389,7 @@ Results run(const Params& p) {
 
   // The study's rows (reference-data/single_cell_migration.csv).
   auto narrow = [&](double s) -> const Case& { return res.cases.at("narrow_" + p.membrane.units + "_" + tag(s)); };
-  const std::map<double, std::string> ids = {{0.55, "s055"}, {0.7, "s07"}, {1.0, "s10"}};
+  const std::map<double, std::string>& ids = kRowIds;
   for (double s : p.swelling_ratios) {
     if (!ids.count(s)) continue;
     const Case& c = narrow(s);

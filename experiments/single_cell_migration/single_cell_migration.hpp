@@ -89,7 +89,6 @@ struct Case {
   RunSummary summary;
   std::vector<double> t, y;  // centroid height history, s and m
   double hematocrit0 = 0;    // % at t = 0 (the prepared cell)
-  double rear_concavity = 0; // shape descriptor at the end
   double time_to_centreline = -1;  // s, first time |y − H/2| < band; −1 if never
   std::string failure;       // non-empty if the run stopped (instability): the cause
 };

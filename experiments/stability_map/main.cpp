@@ -38,14 +38,8 @@ int main(int argc, char** argv) {
     for (const auto& e : r.extremes) unstable_extremes += !e.stable;
     std::printf("stability map: %zu points, %d of %zu extreme cases stopped; outputs in %s\n", r.points.size(), unstable_extremes,
                 r.extremes.size(), p.out_dir.c_str());
-    if (record) {
-      if (!quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
-      rbc::write_regression_record("stability_map", r.quick_record, "build/bin/stability_map --quick --threads 1 --record-regression");
-      std::printf("wrote %s\n", rbc::regression_record_path("stability_map").c_str());
-    }
-    int status = check && unstable_extremes > 0 ? 1 : 0;
-    if (check && quick) status = std::max(status, rbc::run_regression_check("stability_map", r.quick_record, p.out_dir, std::cout));
-    return status;
+    const int extremes = check && unstable_extremes > 0 ? 1 : 0;
+    return std::max(extremes, rbc::handle_quick_record("stability_map", r.quick_record, quick, record, check, p.out_dir, std::cout));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "stability_map: %s\n", e.what());
     return 2;

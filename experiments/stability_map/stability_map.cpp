@@ -258,6 +258,7 @@ Results run(const Params& p) {
   Results done;
   const bool resume = p.resume && std::filesystem::exists(p.out_dir + "/stability_map.csv") && read_points(p.out_dir, done);
   std::ofstream csv(p.out_dir + "/stability_map.csv", resume ? std::ios::app : std::ios::trunc);
+  csv.precision(12);  // the limits read back by --reuse / --resume must meet the quick record's 1e-9 band
   if (!resume) csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
 
   auto record = [&](const Point& pt) {

@@ -55,11 +55,17 @@ PlasmaVelocity plasma_velocity(const ChannelMesh& m, const VelocityField& u, con
   PlasmaVelocity out;
   double flux_sum = 0, open_sum = 0;
   std::vector<double> ys;
+  std::vector<std::pair<double, double>> extent;  // each cell's x1-range, found once
+  for (const Points* r : membranes) {
+    double xmin = INFINITY, xmax = -INFINITY;
+    for (const auto& p : *r) { xmin = std::min(xmin, p.x()); xmax = std::max(xmax, p.x()); }
+    extent.push_back({xmin, xmax});
+  }
   for (int i = 0; i < m.nx; ++i) {
     double q = integral(i, 0.0, m.height), open = m.height;
-    for (const Points* r : membranes) {
-      double xmin = INFINITY, xmax = -INFINITY;
-      for (const auto& p : *r) { xmin = std::min(xmin, p.x()); xmax = std::max(xmax, p.x()); }
+    for (std::size_t c = 0; c < membranes.size(); ++c) {
+      const Points* r = membranes[c];
+      const auto [xmin, xmax] = extent[c];
       // The section x_i + k L for every period k that meets the cell.
       for (double X = m.x(i) + std::ceil((xmin - m.x(i)) / m.length) * m.length; X <= xmax; X += m.length) {
         ys.clear();

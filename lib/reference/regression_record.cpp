@@ -140,4 +140,14 @@ void write_regression_record(const std::string& experiment, const std::map<std::
   }
 }
 
+int handle_quick_record(const std::string& experiment, const std::map<std::string, Observed>& ours, bool quick, bool record,
+                        bool check, const std::string& out_dir, std::ostream& out) {
+  if (record) {
+    if (!quick) throw std::invalid_argument("--record-regression records the quick case: add --quick");
+    write_regression_record(experiment, ours, "build/bin/" + experiment + " --quick --record-regression");
+    out << "wrote " << regression_record_path(experiment) << "\n";
+  }
+  return quick && check ? run_regression_check(experiment, ours, out_dir, out) : 0;
+}
+
 }  // namespace rbc

@@ -56,4 +56,10 @@ int run_regression_check(const std::string& experiment, const std::map<std::stri
 // written in), with the command, the source tree's commit and today's date.
 void write_regression_record(const std::string& experiment, const std::map<std::string, Observed>& ours, const std::string& command);
 
+// What an experiment's main does with its quick record: --record-regression (quick runs only)
+// writes it anew, --quick --check compares with it. Returns 0, or 1 on a FAIL; throws
+// std::invalid_argument for --record-regression without --quick.
+int handle_quick_record(const std::string& experiment, const std::map<std::string, Observed>& ours, bool quick, bool record,
+                        bool check, const std::string& out_dir, std::ostream& out);
+
 }  // namespace rbc
