@@ -50,13 +50,29 @@ void ChannelFlow::set_poiseuille() {
 }
 
 ProjectionReport ChannelFlow::project() {
-  return projection_.project(u_, pressure_, p_.fluid.density, p_.dt);
+  if (!p_.incremental_pressure) return projection_.project(u_, pressure_, p_.fluid.density, p_.dt);
+  // Incremental form: the projection's pressure is the increment φ (started from 0, its value in
+  // a steady flow); p^{n+1} = p^n + φ.
+  increment_.assign(pressure_.size(), 0.0);
+  const ProjectionReport r = projection_.project(u_, increment_, p_.fluid.density, p_.dt);
+  for (std::size_t k = 0; k < pressure_.size(); ++k) pressure_[k] += increment_[k];
+  return r;
 }
 
 void ChannelFlow::advect() { advection_.advect(u_, u_, p_.dt, p_.advection_substeps); }
 
 void ChannelFlow::diffuse(const VelocityField* force_field) {
   const double force[2] = {p_.body_force, 0.0};
+  if (p_.incremental_pressure) {  // step 4 carries the pressure force M⁻¹ Bᵀ p^{n+1}
+    if (step4_force_.u1.empty()) step4_force_ = VelocityField(mesh_);
+    projection_.pressure_force(pressure_, step4_force_);
+    if (force_field)
+      for (std::size_t k = 0; k < step4_force_.u1.size(); ++k) {
+        step4_force_.u1[k] += force_field->u1[k];
+        step4_force_.u2[k] += force_field->u2[k];
+      }
+    force_field = &step4_force_;
+  }
   diffusion_.diffuse(u_, force, force_field);
   t_ += p_.dt;
   ++steps_;

@@ -32,6 +32,13 @@ struct ChannelFlowParams {
   int advection_substeps = 1;  // Q, wave-like substeps per step
   PressurePreconditioner preconditioner = PressurePreconditioner::schur;
   double cg_tolerance = 1e-10;  // relative residual of the pressure CG
+  // false: the study's Lie scheme — step 1 finds the whole pressure p^{n+1}, step 4 has none.
+  // true: the incremental form (van Kan, SIAM J. Sci. Stat. Comput. 7 (1986) 870) — step 4 carries
+  // the pressure force of p^n, step 1 projects and finds only the increment φ, p^{n+1} = p^n + φ.
+  // Same velocity operator in step 1; in a steady flow φ = 0, so the state is divergence-free
+  // exactly, also where step 4 imposes an obstacle's u = 0 (the study's form leaks through a
+  // fixed obstacle by ≈ 12 μΔt/(ρ H²) of the flux: paper/method/05_fictitious_domain.md).
+  bool incremental_pressure = false;
   int cg_max_iterations = 200;
 };
 
@@ -87,6 +94,8 @@ class ChannelFlow {
   ImplicitDiffusion diffusion_;
   VelocityField u_;
   std::vector<double> pressure_;
+  std::vector<double> increment_;  // φ of the incremental form
+  VelocityField step4_force_;      // the incremental form's pressure force (+ the caller's field)
   double t_ = 0.0;
   long steps_ = 0;
 };

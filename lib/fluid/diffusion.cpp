@@ -41,7 +41,7 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
         for (int i = 0; i < nx; ++i) out[i] += mu_ * top[i];
     }
   }
-  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());  // both components at once
+  solve_both(rhs_.data(), rhs2_.data());  // both components at once
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < nx * rows; ++k) {
     u.u1[nx + k] = rhs_[k];
@@ -58,7 +58,7 @@ void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField
     rhs_[k] = h2 * field.u1[nx + k];
     rhs2_[k] = h2 * field.u2[nx + k];
   }
-  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());
+  solve_both(rhs_.data(), rhs2_.data());
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) {
     u.u1[nx + k] += rhs_[k];
@@ -75,7 +75,7 @@ std::pair<double*, double*> ImplicitDiffusion::zeroed_force_rhs() {
 
 void ImplicitDiffusion::force_response(VelocityField& out) {
   const int nx = m_.nx, n = nx * (m_.ny - 1);
-  solver_->solve_pair(rhs_.data(), rhs2_.data(), rhs_.data(), rhs2_.data());
+  solve_both(rhs_.data(), rhs2_.data());
   for (int k = 0; k < nx; ++k) out.u1[k] = out.u2[k] = out.u1[nx + n + k] = out.u2[nx + n + k] = 0.0;  // walls
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) {

@@ -18,6 +18,16 @@
 
 namespace rbc {
 
+// Step 4 under a constraint on u^{n+1}: the fictitious domain's multiplier (lib/fictitious_domain)
+// turns A x = b into the saddle-point problem A x = b + Bᵀλ, B x = 0. An ImplicitDiffusion with a
+// constraint installed hands every solve to it; without one (no obstacle) nothing changes.
+class Step4Constraint {
+ public:
+  virtual ~Step4Constraint() = default;
+  // b1, b2 (the two components' right-hand sides on the interior rows, x1 fastest) in, x out.
+  virtual void solve_pair(double* b1, double* b2) = 0;
+};
+
 class ImplicitDiffusion {
  public:
   ImplicitDiffusion(const ChannelMesh& mesh, double rho, double mu, double dt);
@@ -37,8 +47,18 @@ class ImplicitDiffusion {
   // x = A⁻¹ b on the interior rows j = 1..ny-1 (nx (ny−1) values, x1 fastest), walls held at 0.
   void solve_interior(double* b);
   double dt() const { return dt_; }
+  // The fictitious domain (or null: no constraint, the plain Helmholtz solve). Not owned.
+  void set_constraint(Step4Constraint* c) { constraint_ = c; }
+  bool constrained() const { return constraint_ != nullptr; }
+  // The unconstrained A⁻¹ (what the constraint's own iterations call).
+  PeriodicBandedSolver& helmholtz() { return *solver_; }
 
  private:
+  void solve_both(double* b1, double* b2) {
+    if (constraint_) constraint_->solve_pair(b1, b2);
+    else solver_->solve_pair(b1, b2, b1, b2);
+  }
+  Step4Constraint* constraint_ = nullptr;
   ChannelMesh m_;
   double rho_, mu_, dt_;
   std::unique_ptr<PeriodicBandedSolver> solver_;

@@ -142,6 +142,16 @@ void QuasiStokesProjection::add_pressure_gradient(const VelocityField& u, const 
   }
 }
 
+void QuasiStokesProjection::pressure_force(const std::vector<double>& p, VelocityField& out) {
+  B_.apply_transpose(p, out.u1, out.u2);
+  const std::ptrdiff_t size = std::ptrdiff_t(out.u1.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t n = 0; n < size; ++n) {
+    out.u1[n] *= inv_mass_;
+    out.u2[n] *= inv_mass_;
+  }
+}
+
 void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt) {
   if (!exact_pc_) {
     out = u;

@@ -35,6 +35,9 @@ class QuasiStokesProjection {
   // Projects u (in place) onto discretely divergence-free fields; p holds the warm start on
   // entry and the pressure (Pa) on exit.
   ProjectionReport project(VelocityField& u, std::vector<double>& p, double rho, double dt);
+  // The pressure as a nodal force density for step 4, out = M⁻¹ Bᵀ p (N/m³ for p in Pa; zero on
+  // the walls): the incremental form's −∇p (channel_flow.hpp).
+  void pressure_force(const std::vector<double>& p, VelocityField& out);
 
   // The same projection as a fixed linear map, for the semi-implicit coupling's GMRES products:
   // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check

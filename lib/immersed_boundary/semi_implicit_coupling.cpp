@@ -339,7 +339,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // needed more than kRebuildAboveIterations iterations or fresh blocks (rebuilt at the next step),
   // and grown back by one at each rebuild that was due. One cell's block is its whole system,
   // built every step.
-  several_ = ncells > 1;
+  several_ = ncells > 1 || !x1_invariant_;
   blocks_.resize(ncells);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) blocks_[c].K = membrane_stiffness(model_, cells[c].nodes, cells[c].target_area);  // at r^{n+1}: the system's K
@@ -465,7 +465,7 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
   for (std::size_t c = 0; c < block_nodes_.size(); ++c)
     block_nodes_[c] = r.get_points(cells[c].nodes.size(), "the nodes of a preconditioner block");
   // The blocks as the uninterrupted run has them (built from the same nodes the same way).
-  several_ = cells.size() > 1;
+  several_ = cells.size() > 1 || !x1_invariant_;
   if (several_ && !block_nodes_.empty()) mobility_.prepare_phase_average(phase_average_extent(model_));
   blocks_.resize(block_nodes_.size());
 #pragma omp parallel for schedule(dynamic)

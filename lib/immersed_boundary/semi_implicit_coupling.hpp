@@ -53,7 +53,11 @@ class SemiImplicitMembraneStep {
   // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the velocity change A⁻¹ S (−Δt K U)
   // (m/s, zero on the walls) that turns u⁰ into u^{n+1}: step 4's response to the implicit force.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
-  int last_iterations() const { return last_iterations_; }  // GMRES iterations of the last step (0: one cell)
+  int last_iterations() const { return last_iterations_; }
+  // The fluid is no longer invariant under shifts in x1 (an obstacle's multiplier in step 4): the
+  // tabulated mobility is then only a preconditioner, and even one cell goes through GMRES, whose
+  // products (spread, step 4, project, interpolate) are exact.
+  void set_fluid_not_x1_invariant() { x1_invariant_ = false; }  // GMRES iterations of the last step (0: one cell)
   // Checkpoints: the projection's warm start, GMRES's starting point and the nodes the current
   // preconditioner blocks were built at (load rebuilds them from those nodes, so a resumed run
   // takes the same steps bit for bit).
@@ -142,6 +146,7 @@ class SemiImplicitMembraneStep {
   bool rebuild_now_ = false;                // rebuild at the next step
   bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes
   int fresh_blocks_after_ = kFreshBlocksAfter;
+  bool x1_invariant_ = true;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.

@@ -47,6 +47,20 @@ void print_membrane_header(const Scene& s, const MembraneModel& m) {
                mu * shear * std::pow(m.radius, 3) / (m.kb * l0 / 4));
 }
 
+// The velocity field for gnuplot: x, y (um), |u|, u1, u2 (m/s), one block per row of nodes.
+void write_field(const fs::path& path, const ChannelMesh& m, const VelocityField& u, double t) {
+  std::ofstream f(path);
+  f << "# t = " << t << " s; x (um), y (um), |u|, u1, u2 (m/s)\n";
+  f.precision(8);
+  for (int j = 0; j <= m.ny; ++j) {
+    for (int i = 0; i <= m.nx; ++i) {  // i = nx repeats column 0 (periodic), so the map spans [0, L]
+      const std::size_t k = m.v(i, j);
+      f << m.x(i) * 1e6 << " " << m.y(j) * 1e6 << " " << std::hypot(u.u1[k], u.u2[k]) << " " << u.u1[k] << " " << u.u2[k] << "\n";
+    }
+    f << "\n";
+  }
+}
+
 void write_membranes(std::ofstream& f, const std::vector<Cell>& cells, double t) {
   f << "# t = " << t << " s\n";
   for (std::size_t k = 0; k < cells.size(); ++k) {
@@ -210,7 +224,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (!cells.empty() && opt.progress) print_membrane_header(scene, sim.membrane());
   const long total = std::lround(std::ceil(scene.end / scene.dt - 1e-9));
   const long every = std::max(1L, std::lround(scene.sample_interval() / scene.dt));
-  const double fluid_area = scene.length * scene.height;
+  const double fluid_area = scene.fluid_area();  // m², the channel minus obstacles
 
   // Resuming: the newest valid checkpoint, which must be of this scene and version.
   RunState resumed;
@@ -247,6 +261,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (fresh) {
     series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
     if (!cells.empty()) series << ",plasma_flux_velocity,plasma_open_velocity";
+    if (sim.obstacles()) series << ",wide_velocity,narrow_velocity,uzawa_iterations";
     for (std::size_t k = 0; k < cells.size(); ++k)
       for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
     series << "\n";
@@ -272,6 +287,10 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
       const PlasmaVelocity pv = plasma_velocity(flow.mesh(), flow.velocity(), membranes);
       series << "," << pv.flux_per_height << "," << pv.over_open_height;
     }
+    if (const ObstacleConstraint* ob = sim.obstacles()) {  // flux over open height, per part (obstacles.hpp)
+      const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());
+      series << "," << pv.wide << "," << pv.narrow << "," << ob->last().iterations;
+    }
     for (const Cell& c : cells) {
       const CellState s = measure_cell(c, l0);
       series << "," << s.centroid.x() << "," << s.centroid.y() << "," << s.area << "," << s.perimeter << ","
@@ -287,7 +306,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   };
   auto snapshot_due = [&] {
     while (next_snapshot < scene.snapshots.size() && scene.snapshots[next_snapshot] <= sim.time() + 0.5 * scene.dt) {
-      write_membranes(snapshots, cells, sim.time());
+      if (!cells.empty()) write_membranes(snapshots, cells, sim.time());
+      if (scene.field_snapshots) write_field(out / ("field_" + std::to_string(next_snapshot) + ".dat"), flow.mesh(), flow.velocity(), sim.time());
       ++next_snapshot;
     }
   };
@@ -296,7 +316,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   progress.resumed_at(sim.steps());
   if (fresh) {
     sample();
-    if (!cells.empty()) snapshot_due();
+    snapshot_due();
   }
   // Checkpoints: after a step that passed the health checks, with the outputs flushed.
   StopSignals signals;
@@ -325,7 +345,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
       u_sum += mean_velocity(flow.mesh(), flow.velocity());
       ++u_count;
       if (sim.steps() % every == 0 || sim.steps() == total) sample();
-      if (!cells.empty()) snapshot_due();
+      snapshot_due();
       progress.update(sim.steps(), sim.time());
       if (opt.after_step) opt.after_step(sim.steps());
       if (const int sig = g_stop_signal) {
@@ -405,6 +425,20 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
                                      {"length", c.shape.length},
                                      {"width", c.shape.width}}}});
   j["disks"] = nlohmann::json::array();
+  if (const ObstacleConstraint* ob = sim.obstacles()) {
+    const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());
+    j["obstacles"] = {{"count", scene.obstacles.size()},
+                      {"wide_velocity", pv.wide},
+                      {"narrow_velocity", pv.narrow},
+                      {"wide_height", pv.wide_height},
+                      {"narrow_height", pv.narrow_height},
+                      {"velocity_definition", "flux through each section over its open height, averaged over the part's sections, at the end"},
+                      {"uzawa_preconditioner", scene.obstacle_preconditioner},
+                      {"uzawa_solves", ob->solves()},
+                      {"uzawa_iterations_mean", ob->solves() ? double(ob->total_iterations()) / double(ob->solves()) : 0.0},
+                      {"uzawa_iterations_max", ob->max_iterations_seen()},
+                      {"setup_seconds", ob->setup_seconds()}};
+  }
   j["max_speed"] = s.max_speed;
   j["reynolds0"] = scene.reynolds0 ? nlohmann::json(*scene.reynolds0) : nlohmann::json(nullptr);
   j["body_force"] = scene.driving_force();

@@ -25,16 +25,17 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> s = {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
-      {"time", {"dt", "end", "coupling", "advection_substeps"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance"}},
-      {"output", {"every", "vtk", "snapshots"}},
+      {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner"}},
+      {"output", {"every", "vtk", "snapshots", "fields"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
   return s;
 }
 // Tables of SPEC section 8 that need parts of the method this version does not have yet.
-const std::vector<std::string> kNotYet = {"disk", "obstacle"};
+const std::vector<std::string> kNotYet = {"disk"};
 const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle"};
+const std::vector<std::string> kObstacleKeys = {"x", "y", "wall"};
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -68,21 +69,22 @@ class Reader {
   }
 
   void check_structure() const {
-    std::vector<std::string> tables = {"cell"};
+    std::vector<std::string> tables = {"cell", "obstacle"};
     for (const auto& t : schema()) tables.push_back(t.name);
     for (auto&& [k, node] : root_) {
       const std::string key(k.str());
       if (std::find(kNotYet.begin(), kNotYet.end(), key) != kNotYet.end())
-        fail("[[" + key + "]]", "rigid disks and obstacles need the fictitious-domain method, which this version "
-                                 "of rbcflow does not have yet");
-      if (key == "cell") {
-        if (!node.is_array_of_tables()) fail("'cell'", "must be an array of tables, written [[cell]]");
+        fail("[[" + key + "]]", "freely moving rigid disks (the fictitious-domain method's particles) are not built in "
+                                 "this version of rbcflow yet (fixed [[obstacle]] rectangles are)");
+      if (key == "cell" || key == "obstacle") {
+        if (!node.is_array_of_tables()) fail("'" + key + "'", "must be an array of tables, written [[" + key + "]]");
+        const std::vector<std::string>& allowed = key == "cell" ? kCellKeys : kObstacleKeys;
         int k = 0;
         for (auto&& c : *node.as_array()) {
           for (auto&& [kk, vv] : *c.as_table()) {
             const std::string sub(kk.str());
-            if (std::find(kCellKeys.begin(), kCellKeys.end(), sub) == kCellKeys.end())
-              fail("[[cell]] " + std::to_string(k) + " " + sub, "unknown key" + suggestion(sub, kCellKeys));
+            if (std::find(allowed.begin(), allowed.end(), sub) == allowed.end())
+              fail("[[" + key + "]] " + std::to_string(k) + " " + sub, "unknown key" + suggestion(sub, allowed));
           }
           ++k;
         }
@@ -159,7 +161,7 @@ class Reader {
 
   std::string word(const std::string& table, const std::string& key, const std::vector<std::string>& allowed,
                    const std::string& fallback) const {
-    const std::string where = "[" + table + "] " + key;
+    const std::string where = (current_ && table == current_name_ ? table : "[" + table + "]") + " " + key;
     const toml::node* n = find(table, key);
     if (!n) return fallback;
     if (!n->is_string()) fail(where, "must be a string, not " + type_name(*n));
@@ -250,7 +252,67 @@ bool polygons_overlap(const Points& a, const Points& b, double L) {
   return any_node_inside(a, b, L) || any_node_inside(b, a, L);
 }
 
+std::string um(double metres) {
+  std::ostringstream o;
+  o << metres * 1e6 << " um";
+  return o.str();
+}
+
+// Obstacles: inside the channel, edges on mesh lines, at least 2h thick each way, leaving a passage,
+// not overlapping each other, standing on the wall the scene names.
+void validate_obstacles(const Reader& r, const Scene& s) {
+  const double h = s.mesh_size, L = s.length, H = s.height;
+  for (std::size_t k = 0; k < s.obstacles.size(); ++k) {
+    const Obstacle& o = s.obstacles[k];
+    const std::string name = "[[obstacle]] " + std::to_string(k);
+    if (!(o.x[0] >= 0 && o.x[1] <= L * (1 + 1e-12) && o.x[0] < o.x[1]))
+      r.fail(name + " x", "= [" + um(o.x[0]) + ", " + um(o.x[1]) + "] must satisfy 0 <= a < b <= L = " + um(L));
+    if (!(o.y[0] >= 0 && o.y[1] <= H * (1 + 1e-12) && o.y[0] < o.y[1]))
+      r.fail(name + " y", "= [" + um(o.y[0]) + ", " + um(o.y[1]) + "] must satisfy 0 <= c < d <= H = " + um(H));
+    for (int axis = 0; axis < 2; ++axis) {
+      const double* v = axis == 0 ? o.x : o.y;
+      for (int e = 0; e < 2; ++e)
+        if (!on_mesh_line(v[e], h))
+          r.fail(name + (axis == 0 ? " x" : " y"), "edge " + um(v[e]) + " is not on a mesh line (multiples of h = " + um(h) +
+                                                       "); nearest: " + um(nearest_mesh_line(v[e], h)));
+      if (v[1] - v[0] < 2 * h * (1 - 1e-9))
+        r.fail(name + (axis == 0 ? " x" : " y"), "the obstacle is " + um(v[1] - v[0]) + " thick, thinner than 2h = " + um(2 * h) +
+                                                     " (the mesh cannot hold it)");
+    }
+    if (o.y[1] - o.y[0] > H - 2 * h * (1 - 1e-9))
+      r.fail(name + " y", "the obstacle leaves less than 2h = " + um(2 * h) + " of open height: the channel would be shut");
+    if (o.wall == "bottom" && o.y[0] > 1e-6 * h)
+      r.fail(name + " wall", "= \"bottom\" but the obstacle starts at y = " + um(o.y[0]) + ", not on the bottom wall (y = 0)");
+    if (o.wall == "top" && o.y[1] < H - 1e-6 * h)
+      r.fail(name + " wall", "= \"top\" but the obstacle ends at y = " + um(o.y[1]) + ", not on the top wall (y = " + um(H) + ")");
+  }
+  for (std::size_t a = 0; a < s.obstacles.size(); ++a)
+    for (std::size_t b = a + 1; b < s.obstacles.size(); ++b) {
+      const Obstacle &p = s.obstacles[a], &q = s.obstacles[b];
+      const bool y_overlap = p.y[0] < q.y[1] && q.y[0] < p.y[1];
+      bool x_overlap = false;
+      for (int shift = -1; shift <= 1; ++shift)
+        x_overlap = x_overlap || (p.x[0] < q.x[1] + shift * L && q.x[0] + shift * L < p.x[1]);
+      if (x_overlap && y_overlap)
+        r.fail("[[obstacle]] " + std::to_string(a) + " and " + std::to_string(b), "the obstacles overlap; join them into one");
+    }
+  // A section whose obstacles leave no open height would shut the channel.
+  if (!s.obstacles.empty()) {
+    const ObstacleGeometry g(ChannelMesh::make(L, H, h), s.obstacles);
+    for (int i = 0; i < g.mesh().nx; ++i)
+      if (g.open_height(g.mesh().x(i)) < 2 * h * (1 - 1e-9))
+        r.fail("[[obstacle]]", "the obstacles together leave less than 2h of open height at x = " + um(g.mesh().x(i)) +
+                                   ": the channel would be shut");
+  }
+}
+
 }  // namespace
+
+double Scene::fluid_area() const {
+  double a = length * height;
+  for (const Obstacle& o : obstacles) a -= (o.x[1] - o.x[0]) * (o.y[1] - o.y[0]);
+  return a;
+}
 
 double Scene::driving_force() const {
   return body_force ? *body_force : body_force_from_reynolds(*reynolds0, fluid, height);
@@ -269,6 +331,7 @@ ChannelFlowParams Scene::flow_params() const {
   p.advection_substeps = advection_substeps;
   p.preconditioner = parse_pressure_preconditioner(pressure_preconditioner);
   p.cg_tolerance = cg_tolerance;
+  p.incremental_pressure = projection == "incremental";
   return p;
 }
 
@@ -305,13 +368,17 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (s.end < s.dt) r.fail("[time] end", "must be at least one time step (dt)");
   s.coupling = r.word("time", "coupling", {"explicit", "semi-implicit"}, s.coupling);
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
+  s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);
   s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
+  s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
+  s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
   s.snapshots = r.list("output", "snapshots", "s");
+  s.field_snapshots = r.boolean("output", "fields", false);
 
   // Preparing a shape costs ≈ N³ (≈ 20 s at N = 300): larger N would look like a hang.
   s.membrane_nodes = int(r.integer("membrane", "nodes", 8, kMaxMembraneNodes, s.membrane_nodes));
@@ -338,6 +405,25 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     }
   }
 
+  if (const toml::node* obstacles = root.get("obstacle")) {
+    int k = 0;
+    for (auto&& o : *obstacles->as_array()) {
+      const std::string name = "[[obstacle]] " + std::to_string(k++);
+      r.enter(o.as_table(), name);
+      Obstacle ob;
+      for (const char* key : {"x", "y"}) {
+        if (!r.has(name, key)) r.fail(name, std::string("missing required key ") + key + " = [" + (key[0] == 'x' ? "a, b" : "c, d") + "] (m)");
+        double* v = key[0] == 'x' ? ob.x : ob.y;
+        v[0] = v[1] = NAN;
+        r.pair(name, key, "m", v);
+      }
+      ob.wall = r.word(name, "wall", {"bottom", "top", "none"}, "");
+      if (ob.wall == "none") ob.wall.clear();
+      s.obstacles.push_back(ob);
+      r.enter(nullptr, "");
+    }
+  }
+
   // The mesh must fit the channel (T_2h must exist): ChannelMesh says which side does not fit.
   try {
     const ChannelMesh m = ChannelMesh::make(s.length, s.height, s.mesh_size);
@@ -350,6 +436,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   } catch (const std::invalid_argument& e) {
     r.fail("[channel] mesh_size", e.what());
   }
+  validate_obstacles(r, s);
   // Cells: inside the channel and not overlapping (each prepared as the run will prepare it).
   if (!s.cells.empty()) {
     const MembraneModel mm = s.membrane_model();
@@ -371,6 +458,22 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       for (std::size_t b = a + 1; b < placed.size(); ++b)
         if (polygons_overlap(placed[a], placed[b], s.length))
           r.fail("[[cell]] " + std::to_string(a) + " and " + std::to_string(b), "the cells overlap");
+    // No membrane node in (or on) an obstacle, and no obstacle corner inside a cell.
+    if (!s.obstacles.empty()) {
+      const ObstacleGeometry g(ChannelMesh::make(s.length, s.height, s.mesh_size), s.obstacles);
+      for (std::size_t k = 0; k < placed.size(); ++k)
+        for (std::size_t o = 0; o < s.obstacles.size(); ++o) {
+          const Obstacle& ob = s.obstacles[o];
+          const ObstacleGeometry one(g.mesh(), {ob});
+          bool hit = false;
+          for (const auto& p : placed[k]) hit = hit || one.contains(p.x(), p.y());
+          for (double x : ob.x)
+            for (double y : ob.y) hit = hit || any_node_inside(placed[k], Points{Eigen::Vector2d(x, y)}, s.length);
+          if (hit)
+            r.fail("[[cell]] " + std::to_string(k), "the cell starts inside or across [[obstacle]] " + std::to_string(o) +
+                                                      "; move its center");
+        }
+    }
   }
 
   // Δt must respect the advective bound of the wave-like step.
@@ -388,7 +491,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     const ChannelMesh mesh = ChannelMesh::make(s.length, s.height, s.mesh_size);  // checked above
     const double nx = mesh.nx, ny = mesh.ny;
     double gib = 8.0 * nx * (ny - 1) * (ny - 1) * 8.0 / (1024.0 * 1024.0 * 1024.0);
-    if (s.cells.size() > 1)
+    if (s.cells.size() > 1 || !s.obstacles.empty())  // the GMRES path's preconditioner
       gib += double(StepMobility::phase_average_bytes(mesh, phase_average_extent(s.membrane_model()))) / (1024.0 * 1024.0 * 1024.0);
     if (gib > kMaxMobilityTableGiB) {
       std::ostringstream m;
@@ -429,18 +532,22 @@ std::string scene_to_toml(const Scene& s) {
   if (s.body_force) o << "body_force = " << num(*s.body_force) << "\n";
   o << "wall_velocity = [" << num(s.wall_velocity[0]) << ", " << num(s.wall_velocity[1]) << "]\n";
   o << "[time]\ndt = " << num(s.dt) << "\nend = " << num(s.end) << "\ncoupling = \"" << s.coupling
-    << "\"\nadvection_substeps = " << s.advection_substeps << "\n";
+    << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
-    << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\n";
+    << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
+    << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\n";
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
-  o << "]\n";
+  o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";
   o << "[membrane]\nnodes = " << s.membrane_nodes << "\nradius = " << num(s.membrane_radius) << "\nkl = "
     << num(s.membrane_constants.kl) << "\nkb = " << num(s.membrane_constants.kb) << "\nks = " << num(s.membrane_constants.ks)
     << "\nunits = \"" << s.membrane_constants.units << "\"\narea_penalty = " << (s.area_penalty ? "true" : "false") << "\n";
   for (const CellSpec& c : s.cells)
     o << "[[cell]]\ncenter = [" << num(c.center.x()) << ", " << num(c.center.y()) << "]\nswelling_ratio = "
       << num(c.swelling_ratio) << "\nangle = " << num(c.angle) << "\n";
+  for (const Obstacle& b : s.obstacles)
+    o << "[[obstacle]]\nx = [" << num(b.x[0]) << ", " << num(b.x[1]) << "]\ny = [" << num(b.y[0]) << ", " << num(b.y[1])
+      << "]\nwall = \"" << (b.wall.empty() ? "none" : b.wall) << "\"\n";
   return o.str();
 }
 

@@ -10,6 +10,20 @@ namespace rbc {
 
 Simulation::Simulation(const Scene& scene)
     : scene_(scene), flow_(scene.flow_params()), model_(scene.membrane_model()) {
+  build_cells();
+  // Obstacles: step 4 becomes the DLM/FD saddle-point problem (lib/fictitious_domain). Installed
+  // after the semi-implicit coupling has tabulated its x1-invariant mobility, which then only
+  // preconditions: the coupling's exact products go through the constrained step 4.
+  if (!scene.obstacles.empty()) {
+    obstacles_ = std::make_unique<ObstacleConstraint>(ObstacleGeometry(flow_.mesh(), scene.obstacles), flow_.diffusion().helmholtz(),
+                                                      scene.obstacle_tolerance, parse_uzawa_preconditioner(scene.obstacle_preconditioner));
+    flow_.diffusion().set_constraint(obstacles_.get());
+    if (semi_implicit_step_) semi_implicit_step_->set_fluid_not_x1_invariant();
+  }
+}
+
+void Simulation::build_cells() {
+  const Scene& scene = scene_;
   if (scene.cells.empty()) return;
   // Prepare each swelling ratio once (Remark 2.1) and place the cells.
   std::map<double, PreparedShape> shapes;
@@ -84,6 +98,9 @@ void Simulation::check_health() {
       if (!std::isfinite(r.x()) || !std::isfinite(r.y())) throw RunFailure("non-finite membrane node in " + cell + when);
       if (r.y() <= 0.0 || r.y() >= scene_.height)
         throw RunFailure(cell + " crossed a wall (a membrane node at x2 = " + std::to_string(r.y() * 1e6) + " um)" + when);
+      if (obstacles_ && obstacles_->geometry().contains(r.x(), r.y()))
+        throw RunFailure(cell + " entered an obstacle (a membrane node at (" + std::to_string(r.x() * 1e6) + ", " +
+                         std::to_string(r.y() * 1e6) + ") um)" + when + "; lower [time] dt");
     }
     const double strain = max_strain(cells_[k].nodes, l0);
     if (strain > kMaxMembraneStrain) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "diagnostics/cell_diagnostics.hpp"
+#include "fictitious_domain/dlm_obstacle_step.hpp"
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/semi_implicit_coupling.hpp"
@@ -57,7 +58,8 @@ class Simulation {
   // node count is wrong or the run has begun.
   void place_cell(std::size_t k, const Points& nodes);
   // Stops the run (RunFailure) on non-finite values, a CFL number above the stability limit,
-  // a membrane strain above kMaxMembraneStrain, a membrane node outside the channel, or a fluid
+  // a membrane strain above kMaxMembraneStrain, a membrane node outside the channel or inside an
+  // obstacle, or a fluid
   // that has been faster than kMaxSpeedRatio times the flow's peak for too long (call it after
   // every step: it adds up that time).
   void check_health();
@@ -69,6 +71,8 @@ class Simulation {
   double time() const { return flow_.time(); }
   long steps() const { return flow_.steps(); }
   int last_cg_iterations() const { return last_projection_.iterations; }
+  // The fictitious domain of the scene's obstacles (null: no obstacle, none of it built).
+  const ObstacleConstraint* obstacles() const { return obstacles_.get(); }
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
   int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
   // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
@@ -86,8 +90,11 @@ class Simulation {
   // Only when the scene has cells: one of the two couplings (scene [time] coupling).
   std::unique_ptr<ExplicitMembraneStep> explicit_step_;
   std::unique_ptr<SemiImplicitMembraneStep> semi_implicit_step_;
+  // Only when the scene has obstacles: step 4's multiplier (installed in the fluid's diffusion).
+  std::unique_ptr<ObstacleConstraint> obstacles_;
   ProjectionReport last_projection_;
-  double speed_excess_time_ = 0;  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
+  double speed_excess_time_ = 0;
+  void build_cells();  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
 };
 
 }  // namespace rbc
