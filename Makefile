@@ -16,7 +16,7 @@ DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-
 FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
-EXPERIMENTS := channel_flow single_cell_migration stability_map
+EXPERIMENTS := channel_flow single_cell_migration stability_map constriction
 
 .PHONY: all deps build test test-release test-sanitize reproduce bench fuzz clean
 

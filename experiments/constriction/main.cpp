@@ -1,0 +1,39 @@
+// constriction: 12 cells through the study's 15 um passage (see constriction.hpp).
+#include <algorithm>
+#include <cstdio>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+
+#include "constriction.hpp"
+
+int main(int argc, char** argv) {
+  rbc::constriction::Params p;
+  bool check = false, record = false;
+  CLI::App app{"constriction: 12 cells through a channel with a constriction, blocks held by the fictitious domain"};
+  app.add_option("--out", p.out_dir, "output folder");
+  app.add_flag("--quick", p.quick, "short CI parameters (2 ms, h = 0.625 um)");
+  app.add_flag("--check", check, "compare with reference-data/constriction.csv; exit 1 on a failed row");
+  app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+  app.add_flag("--resume", p.resume, "continue a run stopped by SIGINT/SIGTERM from its checkpoint");
+  app.add_flag("--reuse", p.reuse, "read the finished run in the output folder instead of running it again");
+  app.add_flag("--record-regression", record,
+               "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
+  CLI11_PARSE(app, argc, argv);
+  if (p.quick && p.out_dir == "results/constriction") p.out_dir = "results/constriction_quick";
+  try {
+    const auto r = rbc::constriction::run(p);
+    std::printf("constriction: %ld steps to %.4g s in %.1f s wall; U_wide = %.4f cm/s, U_narrow = %.4f cm/s (ratio %.4f), "
+                "Re %.4f / %.4f; Hct %.4f %%\n",
+                r.summary.steps, r.summary.t_end, r.summary.wall_seconds, r.u_wide * 100, r.u_narrow * 100, r.u_narrow / r.u_wide,
+                r.re_wide, r.re_narrow, r.hematocrit);
+    const int study = check ? rbc::run_reference_check("constriction", r.measured, p.out_dir, std::cout, !p.quick) : 0;
+    return std::max(study, rbc::handle_quick_record("constriction", r.quick_record, p.quick, record, check, p.out_dir, std::cout));
+  } catch (const rbc::RunInterrupted& e) {
+    std::fprintf(stderr, "constriction: %s; continue with the same command and --resume\n", e.what());
+    return 128 + e.signal;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "constriction: error: %s\n", e.what());
+    return 2;
+  }
+}

@@ -1,0 +1,50 @@
+# Figures of the constriction experiment (Figs. 11-13 of DOI 10.1002/fld.2455, redrawn from our run).
+#   gnuplot -e "dir='results/constriction'; figdir='paper/report/figures'" experiments/constriction/plot.gp
+if (!exists("dir")) dir = 'results/constriction'
+if (!exists("figdir")) figdir = dir
+run = dir.'/run'
+L = 120.0
+wrap(x) = x - L*floor(x/L)
+# The blocks (um): 40-80 x 0-7.5 and 22.5-30.
+set object 1 rect from 40,0 to 80,7.5 fc rgb 'gray70' fs solid border lc rgb 'black' front
+set object 2 rect from 40,22.5 to 80,30 fc rgb 'gray70' fs solid border lc rgb 'black' front
+set size ratio -1
+set xrange [0:120]; set yrange [0:30]
+set xlabel 'x_1 (um)'; set ylabel 'x_2 (um)'
+unset key
+
+# Fig. 11: membranes at the snapshot times (x1 taken modulo L; a cell across x1 = L is drawn in two parts).
+n = int(system("grep -c '^# t =' ".run."/snapshots.dat"))
+set terminal pngcairo size 1100, 260*n font ',10'
+set output figdir.'/constriction_membranes.png'
+set multiplot layout n,1 title 'Membranes (s* = 0.481) at the snapshot times'
+do for [k=0:n-1] {
+  set title system(sprintf("awk 'BEGIN{b=0} /^# t =/{if(b==%d){print $0; exit} b++}' %s/snapshots.dat", k, run))
+  plot run.'/snapshots.dat' index k using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.25 lc rgb 'red'
+}
+unset multiplot
+
+# Fig. 12: |u| (cm/s) at the last two snapshot times, with blocks and membranes.
+set terminal pngcairo size 1100, 620 font ',10'
+set output figdir.'/constriction_velocity.png'
+set multiplot layout 2,1 title 'Velocity magnitude (cm/s)'
+set cblabel '|u| (cm/s)'
+set palette rgbformulae 33,13,10
+do for [k=n-2:n-1] {
+  set title system(sprintf("head -1 %s/field_%d.dat | sed 's/;.*//; s/# //'", run, k))
+  plot run.'/field_'.k.'.dat' using 1:2:($3*100) with image, \
+       run.'/snapshots.dat' index k using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.2 lc rgb 'white'
+}
+unset multiplot
+
+# Fig. 13: centroid heights against time.
+unset object 1; unset object 2
+set size noratio
+set terminal pngcairo size 1000, 450 font ',11'
+set output figdir.'/constriction_centroids.png'
+set title 'Centroid heights x_2 of the 12 cells (passage: 7.5-22.5 um)'
+set xlabel 't (ms)'; set ylabel 'x_2 (um)'
+set autoscale x; set yrange [0:30]
+set arrow 1 from graph 0, first 7.5 to graph 1, first 7.5 nohead dt 2 lc rgb 'gray40'
+set arrow 2 from graph 0, first 22.5 to graph 1, first 22.5 nohead dt 2 lc rgb 'gray40'
+plot for [c=2:13] dir.'/centroids.dat' using 1:c with lines lw 1.5
