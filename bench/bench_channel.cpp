@@ -1,7 +1,8 @@
 // Benchmark (not a test): time per step of the cell-free channel and its ratio to FFT pairs of
 // the same grid, measured in the same run (machines are noisy; ratios travel better); then the
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
-//   build/bin/bench_channel [--threads N] [--cells-only | --target-only]
+// Then the constriction (issue 15): the same steps with and without the fictitious domain.
+//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
 // transforms along x1 over the ny + 1 rows, which is what the fast solvers actually use.
@@ -17,6 +18,8 @@
 #include <omp.h>
 
 #include "fluid/channel_flow.hpp"
+#include "fictitious_domain/dlm_obstacle_step.hpp"
+#include "scene/scene.hpp"
 #include "scene/simulation.hpp"
 
 using clk = std::chrono::steady_clock;
@@ -166,15 +169,83 @@ static void bench_target(int rounds) {
               te / rounds * 1e3, ts / rounds * 1e3, ts / te, lo, hi);
 }
 
+// The constriction experiment's grid (120 x 30 um, h = 0.3125 um: 384 x 96) and step (semi-
+// implicit, 3e-6 s), timed with the blocks (the DLM/FD step 4, lib/fictitious_domain) and without
+// them (the same scene, obstacles removed), cell-free and with the 12 cells; each from the
+// developed straight-channel profile after 20 steps. "solves/step": fast Helmholtz solve pairs
+// made under the constraint per step (step 4 and each GMRES product's force response), "it/solve":
+// Uzawa CG iterations per constrained solve (each one more fast solve pair). The obstacle's cost
+// per step is then (step with − step without) / step without; with the capacitance preconditioner
+// each constrained solve is two fast solves instead of one.
+static void bench_constriction() {
+  const FftPairs f = fft_pairs(384, 96);
+  std::printf("\nConstriction grid 384x96 (120 x 30 um, h = 0.3125 um), semi-implicit at 3e-6 s (FFT pair 2D of the grid: %.1f us, "
+              "batched 1D: %.1f us)\n", f.pair2d * 1e6, f.pair1d * 1e6);
+  std::printf("%-8s %-26s %10s %10s %9s %9s %11s %9s %9s\n", "cells", "obstacles", "step_us", "steps/s", "step/2d", "step/1d",
+              "solves/step", "it/solve", "gmres_it");
+  const rbc::Scene base = rbc::load_scene_file(std::string(RBCFLOW_SOURCE_DIR) + "/experiments/constriction/constriction.toml");
+  struct Case { bool cells; const char* obstacles; };
+  for (const Case& k : {Case{false, ""}, Case{false, "capacitance"}, Case{true, ""}, Case{true, "capacitance"}, Case{true, "none"}}) {
+    rbc::Scene s = base;
+    if (!k.cells) s.cells.clear();
+    if (std::string(k.obstacles).empty()) s.obstacles.clear();
+    else s.obstacle_preconditioner = k.obstacles;
+    rbc::Simulation sim(s);
+    sim.start_from_cell_free_profile();
+    for (int i = 0; i < 20; ++i) { sim.step(); sim.check_health(); }
+    const rbc::ObstacleConstraint* ob = sim.obstacles();
+    const long solves0 = ob ? ob->solves() : 0, its0 = ob ? ob->total_iterations() : 0;
+    long steps = 0;
+    const double step = seconds_per_call([&] { sim.step(); sim.check_health(); ++steps; }, 3.0);
+    steps += 3;  // seconds_per_call's warm-up calls
+    char solves[32] = "-", its[32] = "-";
+    if (ob) {
+      std::snprintf(solves, sizeof solves, "%.2f", double(ob->solves() - solves0) / steps);
+      std::snprintf(its, sizeof its, "%.2f", double(ob->total_iterations() - its0) / double(ob->solves() - solves0));
+    }
+    std::printf("%-8d %-26s %10.1f %10.1f %9.2f %9.2f %11s %9s %9d\n", k.cells ? int(s.cells.size()) : 0,
+                ob ? (std::string("2 blocks, ") + k.obstacles).c_str() : "(none)", step * 1e6, 1.0 / step, step / f.pair2d,
+                step / f.pair1d, solves, its, sim.last_coupling_iterations());
+    if (ob && ob->geometry().ring().size() && std::string(k.obstacles) == "capacitance")
+      std::printf("         (ring R: %zu of the %zu collocation nodes; S_R built and factored once in %.3f s)\n",
+                  ob->geometry().ring().size(), ob->geometry().nodes().size(), ob->setup_seconds());
+  }
+  // Step 4's solve alone: the fast Helmholtz solve pair against the constrained one (capacitance:
+  // u⁰, the ring's Cholesky solve, the correction A⁻¹Bᵀλ), on the same smooth right-hand side.
+  rbc::ChannelFlow flow(base.flow_params());
+  rbc::PeriodicBandedSolver& A = flow.diffusion().helmholtz();
+  rbc::ObstacleConstraint constrained(rbc::ObstacleGeometry(flow.mesh(), base.obstacles), A, base.obstacle_tolerance,
+                                      rbc::UzawaPreconditioner::capacitance);
+  const std::size_t n = std::size_t(A.nx()) * A.rows();
+  std::vector<double> b1(n), b2(n), x1(n), x2(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    b1[k] = 1.0 + 0.1 * std::sin(0.01 * double(k));
+    b2[k] = 0.1 * std::cos(0.02 * double(k));
+  }
+  const double fast = seconds_per_call([&] { A.solve_pair(b1.data(), b2.data(), x1.data(), x2.data()); });
+  const double with = seconds_per_call([&] {
+    x1 = b1;
+    x2 = b2;
+    constrained.solve_pair(x1.data(), x2.data());
+  });
+  std::printf("step 4's solve pair: fast %.1f us, constrained (capacitance, %d iteration) %.1f us: %.2f times; FFT pair 2D %.1f us\n",
+              fast * 1e6, constrained.last().iterations, with * 1e6, with / fast, f.pair2d * 1e6);
+}
+
 int main(int argc, char** argv) {
   int threads = 0;
-  bool cells_only = false, target_only = false;
+  bool cells_only = false, target_only = false, constriction_only = false;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
     if (std::string(argv[a]) == "--target-only") target_only = true;
+    if (std::string(argv[a]) == "--constriction-only") constriction_only = true;
   }
   if (threads > 0) omp_set_num_threads(threads);
+  if (constriction_only) {
+    bench_constriction();
+    return 0;
+  }
   if (target_only) {
     bench_target(10);
     return 0;
@@ -214,5 +285,6 @@ int main(int argc, char** argv) {
   }
   bench_cells();
   bench_target(10);
+  bench_constriction();
   return 0;
 }

@@ -149,5 +149,41 @@ TEST(ShapeDescriptor, ClassifiesParachuteBulletAndBiconcaveOutlines) {
   EXPECT_EQ(describe_shape(bullet).kind, "bullet");
 }
 
+
+TEST(ShapeDescriptor, OwnFrameFindsABiconcaveCellHoweverItLiesAndNotAParachuteOrAnEllipse) {
+  // The prepared s* = 0.481 cell (the constriction's) turned by several angles: biconcave in its
+  // own frame at every angle, with the angle found; in the flow's frame a tilted one is "other".
+  const PreparedShape p = prepare_shape(kStudy, 0.481);
+  auto turned = [](const Points& r, double angle) {
+    Points s(r.size());
+    for (std::size_t i = 0; i < r.size(); ++i)
+      s[i] = Eigen::Vector2d(std::cos(angle) * r[i].x() - std::sin(angle) * r[i].y() + 3e-6,
+                             std::sin(angle) * r[i].x() + std::cos(angle) * r[i].y() + 5e-6);
+    return s;
+  };
+  for (double deg : {0.0, 25.0, 40.0, 90.0, 135.0, -60.0}) {
+    const Points r = turned(p.nodes, deg * std::numbers::pi / 180);
+    const OwnFrameShape o = describe_shape_in_own_frame(r);
+    EXPECT_TRUE(o.biconcave) << deg << " deg: dimples " << o.top_dimple << ", " << o.bottom_dimple << ", ends " << o.end_concavity;
+    double diff = o.angle - deg * std::numbers::pi / 180;
+    diff -= std::numbers::pi * std::round(diff / std::numbers::pi);
+    EXPECT_LT(std::abs(diff), 1e-6) << deg;
+    if (deg == 40.0) {
+      EXPECT_NE(describe_shape(r).kind, "biconcave");
+    }
+  }
+  // Hand-made outlines: a parachute (one face indented) turned by 30 degrees, and an ellipse.
+  const int n = 200;
+  Points parachute(n), ellipse(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n, rad = 1.0 - 0.35 * std::pow(std::max(0.0, -std::cos(a)), 6);
+    const Eigen::Vector2d q = rad * Eigen::Vector2d(std::cos(a), std::sin(a));
+    parachute[i] = {std::cos(0.5) * q.x() - std::sin(0.5) * q.y(), std::sin(0.5) * q.x() + std::cos(0.5) * q.y()};
+    ellipse[i] = {2.0 * std::cos(a), 0.7 * std::sin(a)};
+  }
+  EXPECT_FALSE(describe_shape_in_own_frame(parachute).biconcave);
+  EXPECT_FALSE(describe_shape_in_own_frame(ellipse).biconcave);
+}
+
 }  // namespace
 }  // namespace rbc

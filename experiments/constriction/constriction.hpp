@@ -19,6 +19,7 @@
 //       build/bin/constriction --quick --check  (2 ms on a 2x coarser mesh, seconds)
 #include <map>
 #include <string>
+#include <vector>
 
 #include "reference/reference_table.hpp"
 #include "reference/regression_record.hpp"
@@ -39,6 +40,24 @@ struct Params {
   bool progress = true;
   bool resume = false;  // continue from the checkpoint in out_dir/run
   bool reuse = false;   // read a finished run in out_dir/run instead of running it again
+  // Error against run time (full runs only): short runs of the same scene over h and Δt with
+  // both couplings, in out_dir/conv/<case>; compared at kConvTime with the finest explicit run.
+  bool convergence = true;
+};
+
+// The short horizon of the convergence study, s (the flow starts from rest; ρH²/μ = 0.75 ms).
+inline constexpr double kConvTime = 1e-3;
+
+struct ConvergenceRun {
+  std::string coupling;
+  double h = 0, dt = 0;            // m, s
+  int substeps = 1;                // Q of the advection
+  long steps = 0;
+  double wall = 0;                 // s
+  std::string failure;             // why the run stopped (empty: it reached kConvTime)
+  std::vector<double> x, y;        // the cells' centroids at kConvTime, m
+  double u_wide = 0;               // m/s at kConvTime
+  double error = 0, u_error = 0;   // RMS centroid distance to the reference (m); |ΔU_wide|/U_wide
 };
 
 struct Results {
@@ -49,9 +68,12 @@ struct Results {
   double hematocrit = 0;                     // %, at t = 0
   double offset_start = 0, offset_entry = 0, offset_late = 0;  // mean |y − H/2| of the cells, m
   double entry_time = 0;                     // s: the leading cell reaches the passage
-  int wide_cells_end = 0, biconcave_end = 0; // cells in the wide part at the end, and how many are biconcave
+  int wide_cells_end = 0, biconcave_end = 0; // cells in the wide part at the end, and how many are biconcave (own frame)
+  int biconcave_flow_frame_end = 0;          // and how many by the flow-frame descriptor
+  std::vector<double> tilt_end;              // their long axes' angles to x1, degrees
   std::map<std::string, Measured> measured;  // ids of reference-data/constriction.csv
   std::map<std::string, Observed> quick_record;
+  std::vector<ConvergenceRun> convergence;
 };
 
 Results run(const Params& params);

@@ -48,3 +48,23 @@ set autoscale x; set yrange [0:30]
 set arrow 1 from graph 0, first 7.5 to graph 1, first 7.5 nohead dt 2 lc rgb 'gray40'
 set arrow 2 from graph 0, first 22.5 to graph 1, first 22.5 nohead dt 2 lc rgb 'gray40'
 plot for [c=2:13] dir.'/centroids.dat' using 1:c with lines lw 1.5
+
+# Error against run time (work-precision): one line per coupling and mesh size, Δt halving along
+# it (convergence.csv of the full run; the quick case has none).
+conv = dir.'/convergence.csv'
+if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+  unset arrow 1; unset arrow 2
+  set terminal pngcairo size 800, 560 font ',11'
+  set output figdir.'/constriction_work_precision.png'
+  set datafile separator ','
+  set autoscale; unset xrange; unset yrange
+  set logscale xy
+  set format y '10^{%L}'
+  set title 'RMS centroid error of the 12 cells at 1 ms against wall time (constriction)'
+  set xlabel 'wall time of the run (s)'
+  set ylabel 'RMS |x_c - x_c^{finest}| (um)'
+  set key bottom left
+  sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $10==\"\")' %s", c, h, conv)
+  plot for [h in "1.25 0.625 0.3125"] sel("semi-implicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("explicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um'
+}

@@ -168,6 +168,21 @@ std::vector<Extreme> extremes(const Params& p) {
     out.push_back(run_extreme("s* = 0.481", "the study's most deflated cell (no constriction yet)", s, p));
   }
   {
+    // The constriction experiment's cell through its passage (issue 15): a 40 x 30 um channel at
+    // the constriction's Re0 = 1.667 with blocks 7.5 um high on each wall (a 15 um passage, here
+    // 10 um long so that the cell crosses it within the case's time), the s* = 0.481 cell on the
+    // centreline 4 um upstream of the entry; the flow's Δt as for the others.
+    Scene s = base(1.667);
+    s.length = 40e-6;
+    s.height = 30e-6;
+    s.projection = "incremental";
+    s.obstacles = {Obstacle{{15e-6, 25e-6}, {0.0, 7.5e-6}, "bottom"}, Obstacle{{15e-6, 25e-6}, {22.5e-6, 30e-6}, "top"}};
+    s.cells[0] = {{11e-6, 15e-6}, 0.481, 0.0};
+    s.dt = std::min(1e-6, 0.99 * advective_dt_bound(s.flow_params()));
+    s.end = std::ceil(end / s.dt) * s.dt;
+    out.push_back(run_extreme("s* = 0.481 in 15 um passage", "40 x 30 um, blocks 10 x 7.5 um on both walls, cell 4 um before the entry", s, p));
+  }
+  {
     Scene s = base(0.5556);
     s.membrane_constants.kb *= 1000;
     s.membrane_constants.kl *= 100;

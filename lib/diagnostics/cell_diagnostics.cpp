@@ -55,6 +55,47 @@ ShapeDescriptor describe_shape(const Points& r) {
   return d;
 }
 
+OwnFrameShape describe_shape_in_own_frame(const Points& r) {
+  OwnFrameShape o;
+  const Eigen::Vector2d c = area_centroid(r);
+  // Second moments of the enclosed area about the centroid (Green's theorem over the polygon's
+  // edges); dividing by the signed area makes them independent of the nodes' orientation.
+  double a = 0, ixx = 0, iyy = 0, ixy = 0;  // ∫x², ∫y², ∫xy
+  for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+    const Eigen::Vector2d p = r[i] - c, q = r[(i + 1) % n] - c;
+    const double cross = p.x() * q.y() - q.x() * p.y();
+    a += cross / 2;
+    ixx += cross * (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) / 12;
+    iyy += cross * (p.y() * p.y() + p.y() * q.y() + q.y() * q.y()) / 12;
+    ixy += cross * (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y()) / 24;
+  }
+  ixx /= a;
+  iyy /= a;
+  ixy /= a;
+  o.angle = 0.5 * std::atan2(2 * ixy, ixx - iyy);  // the direction of the largest second moment
+  const double cs = std::cos(o.angle), sn = std::sin(o.angle);
+  Points s(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const Eigen::Vector2d d = r[i] - c;
+    s[i] = {cs * d.x() + sn * d.y(), -sn * d.x() + cs * d.y()};
+  }
+  const ShapeDescriptor d = describe_shape(s);
+  const Eigen::Vector2d c2 = area_centroid(s);
+  const auto ys = crossings_at_x(s, c2.x());
+  double ymin = std::numeric_limits<double>::max(), ymax = -ymin;
+  for (const auto& p : s) {
+    ymin = std::min(ymin, p.y());
+    ymax = std::max(ymax, p.y());
+  }
+  if (ys.size() >= 2) {
+    o.top_dimple = (ymax - ys.back()) / d.width;
+    o.bottom_dimple = (ys.front() - ymin) / d.width;
+  }
+  o.end_concavity = std::max(d.rear_concavity, d.front_concavity);
+  o.biconcave = o.top_dimple > 0.02 && o.bottom_dimple > 0.02 && o.end_concavity < 0.02;
+  return o;
+}
+
 CellState measure_cell(const Cell& c, double l0) {
   CellState s;
   s.centroid = area_centroid(c.nodes);
@@ -63,6 +104,7 @@ CellState measure_cell(const Cell& c, double l0) {
   s.area_drift = s.area / c.prepared_area - 1.0;
   s.max_strain = max_strain(c.nodes, l0);
   s.shape = describe_shape(c.nodes);
+  s.own_frame = describe_shape_in_own_frame(c.nodes);
   return s;
 }
 

@@ -33,13 +33,30 @@ struct ShapeDescriptor {
   std::string kind;              // parachute, biconcave, bullet, round, other
 };
 
+// The same outline in the cell's own frame, whatever way it lies in the flow (a tilted biconcave
+// cell has concave "ends" in the flow's frame and is "other" there): rotated about its centroid so
+// that the long principal axis of the enclosed area's second moments lies along x1. With W the
+// extent across that axis and the crossings of the line through the centroid across it:
+//   top and bottom dimples  δ_t = (y_max − y_top(x_c)) / W,  δ_b = (y_bot(x_c) − y_min) / W
+//   end concavity           κ_e = the larger of the rear and front concavities along the axis
+//   biconcave               δ_t > 0.02 and δ_b > 0.02 and κ_e < 0.02 (both faces dimpled, both
+//                           ends convex; the thresholds of the flow-frame descriptor above). A
+//                           parachute (one face indented) or an ellipse is not biconcave.
+struct OwnFrameShape {
+  double angle = 0;  // of the long axis to x1, rad, in (−π/2, π/2]
+  double top_dimple = 0, bottom_dimple = 0, end_concavity = 0;
+  bool biconcave = false;
+};
+
 struct CellState {
   Eigen::Vector2d centroid;
   double area = 0, perimeter = 0, area_drift = 0, max_strain = 0;
   ShapeDescriptor shape;
+  OwnFrameShape own_frame;
 };
 
 ShapeDescriptor describe_shape(const Points& r);
+OwnFrameShape describe_shape_in_own_frame(const Points& r);
 CellState measure_cell(const Cell& c, double rest_length);
 double hematocrit_percent(const std::vector<Cell>& cells, double fluid_area);
 

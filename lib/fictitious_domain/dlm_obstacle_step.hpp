@@ -67,7 +67,10 @@ class ObstacleConstraint : public Step4Constraint {
   std::vector<int> points_;  // where the CG's λ lives: R (capacitance) or C (none)
   Eigen::LLT<Eigen::MatrixXd> capacitance_;  // of S_R
   std::vector<double> lambda_[2];
-  std::vector<double> work_[2];  // the fast solver's right-hand sides for A⁻¹ Bᵀ w
+  std::vector<double> rhs_[2];   // the fast solver's right-hand sides Bᵀ w (zero off the points)
+  std::vector<double> work_[2];  // and its results A⁻¹ Bᵀ w
+  std::vector<double> deep_lambda_[2];  // λ_D = −b_D of the last solve (capacitance)
+  std::vector<int> where_;       // per collocation node: index among points_, or −1 − index in D
   Report last_;
   long solves_ = 0, total_iterations_ = 0;
   int max_seen_ = 0;

@@ -356,10 +356,13 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   }
   cost_.blocks += seconds_since(t0);
   t0 = clock::now();
-  // One cell: its own system is the whole system. Several: the coupled solve.
+  // One cell in an x1-invariant fluid: its own system is the whole system. Several, or a fluid
+  // with obstacles (the block, from the obstacle-free mobility, is then only a preconditioner):
+  // the coupled solve. (Until 2026-11-24 one cell with obstacles took the block's solution as
+  // exact, and the step blew up within four steps.)
   last_iterations_ = 0;
   fresh_in_step_ = false;
-  const Eigen::VectorXd U = ncells == 1 ? precondition(rhs) : solve_coupled(cells, rhs);
+  const Eigen::VectorXd U = several_ ? solve_coupled(cells, rhs) : precondition(rhs);
   // A step that needed many iterations: the blocks go stale faster than the interval assumes (a
   // larger Δt, faster cells), so they are rebuilt at the next step and more often from then on.
   if (several_ && !fresh_in_step_ && last_iterations_ > kRebuildAboveIterations) {
@@ -375,7 +378,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // Step 4's response to ΔF = −Δt K U, the change of the spring force over the coming step.
   std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
   std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
-  if (ncells == 1) {  // spread ΔF and solve
+  if (!several_) {  // spread ΔF and solve
     VelocityField& force = work_;
     std::fill(force.u1.begin(), force.u1.end(), 0.0);
     std::fill(force.u2.begin(), force.u2.end(), 0.0);

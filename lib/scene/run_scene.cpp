@@ -423,7 +423,12 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
                                      {"side_concavity", c.shape.side_concavity},
                                      {"fore_aft", c.shape.fore_aft},
                                      {"length", c.shape.length},
-                                     {"width", c.shape.width}}}});
+                                     {"width", c.shape.width}}},
+                          {"own_frame", {{"angle", c.own_frame.angle},
+                                         {"top_dimple", c.own_frame.top_dimple},
+                                         {"bottom_dimple", c.own_frame.bottom_dimple},
+                                         {"end_concavity", c.own_frame.end_concavity},
+                                         {"biconcave", c.own_frame.biconcave}}}});
   j["disks"] = nlohmann::json::array();
   if (const ObstacleConstraint* ob = sim.obstacles()) {
     const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());
@@ -488,6 +493,12 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
       cs.shape.fore_aft = sh.at("fore_aft");
       cs.shape.length = sh.at("length");
       cs.shape.width = sh.at("width");
+      const auto& of = c.at("own_frame");
+      cs.own_frame.angle = of.at("angle");
+      cs.own_frame.top_dimple = of.at("top_dimple");
+      cs.own_frame.bottom_dimple = of.at("bottom_dimple");
+      cs.own_frame.end_concavity = of.at("end_concavity");
+      cs.own_frame.biconcave = of.at("biconcave");
       s.cells.push_back(cs);
     }
     return s;
