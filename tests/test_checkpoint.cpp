@@ -98,9 +98,10 @@ nlohmann::json summary_without_wall_time(const fs::path& dir) {
   return j;
 }
 
-void expect_interrupted_equals_straight(const std::string& coupling, int cells) {
-  const Scene scene = two_cell_scene(coupling, cells);
-  const std::string tag = coupling + std::to_string(cells);
+void expect_interrupted_equals_straight(const std::string& coupling, int cells, bool disk = false) {
+  Scene scene = two_cell_scene(coupling, cells);
+  if (disk) scene.disks.push_back({{14e-6, 6e-6}, 1.5e-6});  // a rigid disk: its state is in the checkpoint too
+  const std::string tag = coupling + std::to_string(cells) + (disk ? "disk" : "");
   const fs::path straight = fs::temp_directory_path() / ("rbcflow_ckpt_straight_" + tag);
   const fs::path stopped = fs::temp_directory_path() / ("rbcflow_ckpt_stopped_" + tag);
   fs::remove_all(straight);
@@ -138,6 +139,10 @@ TEST(Checkpoint, SemiImplicitOneCellInterruptedBySigtermAndResumedEqualsTheStrai
 
 TEST(Checkpoint, ExplicitOneCellInterruptedBySigtermAndResumedEqualsTheStraightRun) {
   expect_interrupted_equals_straight("explicit", 1);
+}
+
+TEST(Checkpoint, SemiImplicitCellAndRigidDiskInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("semi-implicit", 1, true);
 }
 
 TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {

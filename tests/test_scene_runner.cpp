@@ -102,8 +102,9 @@ TEST(SceneInput, TimeStepAboveTheAdvectiveBoundIsRejected) {
   EXPECT_EQ(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 50"), {"time.advection_substeps=40"}), "");
 }
 
-TEST(SceneInput, NotYetSupportedTablesAreRefusedClearly) {
-  expect_error(scene_error(kGood + "[[disk]]\ncenter = [1e-6, 1e-6]\n"), {"[[disk]]", "fictitious-domain"});
+TEST(SceneInput, DisksAreReadAndAWrongOneIsRefusedClearly) {
+  EXPECT_EQ(scene_error(kGood + "[[disk]]\ncenter = [2e-6, 1e-6]\nradius = 0.5e-6\n"), "");
+  expect_error(scene_error(kGood + "[[disk]]\ncenter = [1e-6, 0.6e-6]\nradius = 0.5e-6\n"), {"[[disk]] 0 center", "one mesh cell"});
 }
 
 // A channel wide enough for cells (the study's narrow channel on a coarse mesh).

@@ -222,4 +222,23 @@ void DiskConstraint::solve_pair(double* b1, double* b2) {
   last_.residual = residual;
 }
 
+std::vector<Eigen::Vector3d> DiskConstraint::rigid_motion(const VelocityField& u) const {
+  std::vector<Eigen::Vector3d> q;
+  const std::size_t nx = std::size_t(m_.nx);
+  const double* field[2] = {u.u1.data() + nx, u.u2.data() + nx};  // interior rows
+  for (const DiskPoints& p : points_) {
+    Eigen::Matrix3d N = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    for (const auto* set : {&p.ring, &p.deep})
+      for (const auto& pt : *set)
+        for (int comp = 0; comp < 2; ++comp) {
+          const Eigen::RowVector3d row = rigid_row(comp, pt.offset);
+          N += row.transpose() * row;
+          rhs += row.transpose() * read(field[comp], pt);
+        }
+    q.push_back(N.ldlt().solve(rhs));
+  }
+  return q;
+}
+
 }  // namespace rbc

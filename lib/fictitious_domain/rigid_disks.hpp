@@ -72,6 +72,10 @@ class DiskConstraint : public Step4Constraint {
   void set_disks(const std::vector<Disk>& disks);
   void solve_pair(double* b1, double* b2) override;
 
+  // q = (V1, V2, ω) of each disk in a field that is rigid on its points (least squares over the
+  // points: exact for step 4's result and for any sum of such results, e.g. the semi-implicit
+  // coupling's correction added to it).
+  std::vector<Eigen::Vector3d> rigid_motion(const VelocityField& u) const;
   // q = (V1, V2, ω) of each disk from the last solve.
   const std::vector<Eigen::Vector3d>& motion() const { return q_; }
   const std::vector<DiskPoints>& points() const { return points_; }

@@ -264,6 +264,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     if (sim.obstacles()) series << ",wide_velocity,narrow_velocity,uzawa_iterations";
     for (std::size_t k = 0; k < cells.size(); ++k)
       for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
+    for (std::size_t k = 0; k < sim.disks().size(); ++k)
+      for (const char* q : {"x", "y", "u", "v", "omega"}) series << ",disk" << k << "_" << q;
     series << "\n";
   }
   std::ofstream snapshots;
@@ -296,6 +298,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
       series << "," << s.centroid.x() << "," << s.centroid.y() << "," << s.area << "," << s.perimeter << ","
              << s.area_drift << "," << s.max_strain;
     }
+    for (const Disk& d : sim.disks())  // centre (m, x1 unwrapped), velocity (m/s), spin (1/s)
+      series << "," << d.center.x() << "," << d.center.y() << "," << d.velocity.x() << "," << d.velocity.y() << "," << d.angular_velocity;
     series << "\n";
     series.flush();
     if (scene.vtk) {
@@ -430,6 +434,12 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
                                          {"end_concavity", c.own_frame.end_concavity},
                                          {"biconcave", c.own_frame.biconcave}}}});
   j["disks"] = nlohmann::json::array();
+  for (const Disk& d : sim.disks())
+    j["disks"].push_back({{"center", {d.center.x(), d.center.y()}},
+                          {"radius", d.radius},
+                          {"velocity", {d.velocity.x(), d.velocity.y()}},
+                          {"angular_velocity", d.angular_velocity},
+                          {"angle", d.angle}});
   if (const ObstacleConstraint* ob = sim.obstacles()) {
     const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());
     j["obstacles"] = {{"count", scene.obstacles.size()},

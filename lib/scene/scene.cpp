@@ -26,16 +26,18 @@ const std::vector<TableSpec>& schema() {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner"}},
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner",
+                  "disk_tolerance"}},
       {"output", {"every", "vtk", "snapshots", "fields"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
   return s;
 }
 // Tables of SPEC section 8 that need parts of the method this version does not have yet.
-const std::vector<std::string> kNotYet = {"disk"};
+const std::vector<std::string> kNotYet = {};
 const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle"};
 const std::vector<std::string> kObstacleKeys = {"x", "y", "wall"};
+const std::vector<std::string> kDiskKeys = {"center", "radius"};
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -69,16 +71,15 @@ class Reader {
   }
 
   void check_structure() const {
-    std::vector<std::string> tables = {"cell", "obstacle"};
+    std::vector<std::string> tables = {"cell", "obstacle", "disk"};
     for (const auto& t : schema()) tables.push_back(t.name);
     for (auto&& [k, node] : root_) {
       const std::string key(k.str());
       if (std::find(kNotYet.begin(), kNotYet.end(), key) != kNotYet.end())
-        fail("[[" + key + "]]", "freely moving rigid disks (the fictitious-domain method's particles) are not built in "
-                                 "this version of rbcflow yet (fixed [[obstacle]] rectangles are)");
-      if (key == "cell" || key == "obstacle") {
+        fail("[[" + key + "]]", "is not built in this version of rbcflow yet");
+      if (key == "cell" || key == "obstacle" || key == "disk") {
         if (!node.is_array_of_tables()) fail("'" + key + "'", "must be an array of tables, written [[" + key + "]]");
-        const std::vector<std::string>& allowed = key == "cell" ? kCellKeys : kObstacleKeys;
+        const std::vector<std::string>& allowed = key == "cell" ? kCellKeys : key == "obstacle" ? kObstacleKeys : kDiskKeys;
         int k = 0;
         for (auto&& c : *node.as_array()) {
           for (auto&& [kk, vv] : *c.as_table()) {
@@ -306,6 +307,31 @@ void validate_obstacles(const Reader& r, const Scene& s) {
   }
 }
 
+// Disks: at least 2h in radius (the multiplier needs nodes inside), inside the channel at least
+// one mesh cell from each wall (their boundary points read the velocity bilinearly from the
+// interior rows), apart from each other; not yet together with obstacles.
+void validate_disks(const Reader& r, const Scene& s) {
+  const double h = s.mesh_size, L = s.length, H = s.height;
+  if (!s.disks.empty() && !s.obstacles.empty())
+    r.fail("[[disk]]", "disks and [[obstacle]] rectangles in one scene are not supported in this version of rbcflow");
+  for (std::size_t k = 0; k < s.disks.size(); ++k) {
+    const DiskSpec& d = s.disks[k];
+    const std::string name = "[[disk]] " + std::to_string(k);
+    if (d.radius < 2 * h * (1 - 1e-9)) r.fail(name + " radius", "= " + um(d.radius) + " is below 2h = " + um(2 * h) + " (the mesh cannot hold it)");
+    if (!(d.center.x() >= 0 && d.center.x() < L)) r.fail(name + " center", "x = " + um(d.center.x()) + " must lie in [0, L) = [0, " + um(L) + ")");
+    if (!(d.center.y() - d.radius >= h * (1 - 1e-9) && d.center.y() + d.radius <= H - h * (1 - 1e-9)))
+      r.fail(name + " center", "the disk (x2 from " + um(d.center.y() - d.radius) + " to " + um(d.center.y() + d.radius) +
+                                   ") must stay at least one mesh cell h = " + um(h) + " from each wall (0 and " + um(H) + ")");
+  }
+  for (std::size_t a = 0; a < s.disks.size(); ++a)
+    for (std::size_t b = a + 1; b < s.disks.size(); ++b) {
+      Eigen::Vector2d d = s.disks[a].center - s.disks[b].center;
+      d.x() -= L * std::round(d.x() / L);
+      if (d.norm() < s.disks[a].radius + s.disks[b].radius + h * (1 - 1e-9))
+        r.fail("[[disk]] " + std::to_string(a) + " and " + std::to_string(b), "the disks overlap or are closer than one mesh cell h = " + um(h));
+    }
+}
+
 }  // namespace
 
 double Scene::fluid_area() const {
@@ -374,6 +400,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
+  s.disk_tolerance = r.number("solver", "disk_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.disk_tolerance);
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
@@ -424,6 +451,22 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     }
   }
 
+  if (const toml::node* disks = root.get("disk")) {
+    int k = 0;
+    for (auto&& d : *disks->as_array()) {
+      const std::string name = "[[disk]] " + std::to_string(k++);
+      r.enter(d.as_table(), name);
+      DiskSpec ds;
+      double center[2] = {NAN, NAN};
+      if (!r.has(name, "center")) r.fail(name, "missing required key center = [x, y] (m)");
+      r.pair(name, "center", "m", center);
+      ds.center = {center[0], center[1]};
+      ds.radius = r.number(name, "radius", "m", 0, big, true);
+      s.disks.push_back(ds);
+      r.enter(nullptr, "");
+    }
+  }
+
   // The mesh must fit the channel (T_2h must exist): ChannelMesh says which side does not fit.
   try {
     const ChannelMesh m = ChannelMesh::make(s.length, s.height, s.mesh_size);
@@ -437,6 +480,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     r.fail("[channel] mesh_size", e.what());
   }
   validate_obstacles(r, s);
+  validate_disks(r, s);
   // Cells: inside the channel and not overlapping (each prepared as the run will prepare it).
   if (!s.cells.empty()) {
     const MembraneModel mm = s.membrane_model();
@@ -474,6 +518,20 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
                                                       "; move its center");
         }
     }
+    // No membrane node in (or within h of) a disk, and no disk centre inside a cell.
+    for (std::size_t k = 0; k < placed.size(); ++k)
+      for (std::size_t d = 0; d < s.disks.size(); ++d) {
+        const DiskSpec& disk = s.disks[d];
+        bool hit = any_node_inside(placed[k], Points{disk.center}, s.length);
+        for (const auto& p : placed[k]) {
+          Eigen::Vector2d o = p - disk.center;
+          o.x() -= s.length * std::round(o.x() / s.length);
+          hit = hit || o.norm() < disk.radius + s.mesh_size;
+        }
+        if (hit)
+          r.fail("[[cell]] " + std::to_string(k), "the cell starts inside, across or within one mesh cell of [[disk]] " + std::to_string(d) +
+                                                    "; move its center");
+      }
   }
 
   // Δt must respect the advective bound of the wave-like step.
@@ -491,7 +549,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     const ChannelMesh mesh = ChannelMesh::make(s.length, s.height, s.mesh_size);  // checked above
     const double nx = mesh.nx, ny = mesh.ny;
     double gib = 8.0 * nx * (ny - 1) * (ny - 1) * 8.0 / (1024.0 * 1024.0 * 1024.0);
-    if (s.cells.size() > 1 || !s.obstacles.empty())  // the GMRES path's preconditioner
+    if (s.cells.size() > 1 || !s.obstacles.empty() || !s.disks.empty())  // the GMRES path's preconditioner
       gib += double(StepMobility::phase_average_bytes(mesh, phase_average_extent(s.membrane_model()))) / (1024.0 * 1024.0 * 1024.0);
     if (gib > kMaxMobilityTableGiB) {
       std::ostringstream m;
@@ -535,7 +593,7 @@ std::string scene_to_toml(const Scene& s) {
     << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
     << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
-    << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\n";
+    << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
   o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";
@@ -548,6 +606,8 @@ std::string scene_to_toml(const Scene& s) {
   for (const Obstacle& b : s.obstacles)
     o << "[[obstacle]]\nx = [" << num(b.x[0]) << ", " << num(b.x[1]) << "]\ny = [" << num(b.y[0]) << ", " << num(b.y[1])
       << "]\nwall = \"" << (b.wall.empty() ? "none" : b.wall) << "\"\n";
+  for (const DiskSpec& d : s.disks)
+    o << "[[disk]]\ncenter = [" << num(d.center.x()) << ", " << num(d.center.y()) << "]\nradius = " << num(d.radius) << "\n";
   return o.str();
 }
 

@@ -19,7 +19,11 @@
 //             (velocity left on the obstacle, relative to the field's largest), obstacle_preconditioner
 //             ("capacitance" | "none": the Uzawa CG's).
 //
-// Rigid disks ([[disk]], SPEC section 8) are not built yet; such scenes are refused clearly.
+//   [[disk]]  center = [x, y] (m), radius (m): a neutrally buoyant rigid disk moving freely with
+//             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
+//             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
+//             relative to the field's largest). Disks and obstacles in one scene are not
+//             supported yet.
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
@@ -48,6 +52,11 @@ struct CellSpec {
   Eigen::Vector2d center{0, 0};  // m
   double swelling_ratio = 1.0;   // s*
   double angle = 0.0;            // rad
+};
+
+struct DiskSpec {
+  Eigen::Vector2d center{0, 0};  // m
+  double radius = 0;             // m
 };
 
 struct Scene {
@@ -84,6 +93,9 @@ struct Scene {
   std::vector<Obstacle> obstacles;
   double obstacle_tolerance = 1e-10;
   std::string obstacle_preconditioner = "capacitance";
+  // Freely moving rigid disks (empty: none of it is built).
+  std::vector<DiskSpec> disks;
+  double disk_tolerance = 1e-10;
   double fluid_area() const;  // m², L H minus the obstacles
   MembraneModel membrane_model() const {
     return MembraneModel::from(membrane_constants, membrane_nodes, membrane_radius, area_penalty);

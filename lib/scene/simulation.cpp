@@ -20,6 +20,19 @@ Simulation::Simulation(const Scene& scene)
     flow_.diffusion().set_constraint(obstacles_.get());
     if (semi_implicit_step_) semi_implicit_step_->set_fluid_not_x1_invariant();
   }
+  // Disks: step 4 holds each in rigid motion (lib/fictitious_domain/rigid_disks.hpp).
+  if (!scene.disks.empty()) {
+    for (const DiskSpec& d : scene.disks) {
+      Disk disk;
+      disk.center = d.center;
+      disk.radius = d.radius;
+      disks_.push_back(disk);
+    }
+    disk_constraint_ = std::make_unique<DiskConstraint>(flow_.mesh(), flow_.diffusion().helmholtz(), scene.fluid.density, scene.dt,
+                                                        scene.disk_tolerance);
+    flow_.diffusion().set_constraint(disk_constraint_.get());
+    if (semi_implicit_step_) semi_implicit_step_->set_fluid_not_x1_invariant();
+  }
 }
 
 void Simulation::build_cells() {
@@ -38,6 +51,7 @@ void Simulation::build_cells() {
 }
 
 void Simulation::step() {
+  if (disk_constraint_) disk_constraint_->set_disks(disks_);  // step 4 holds the disks where they are at tⁿ
   last_projection_ = flow_.project();  // (1) quasi-Stokes projection → u^{n+1/3}, p^{n+1}
   const VelocityField* f_B = nullptr;  // (2) membrane: move the nodes with u^{n+1/3}, spread F
   if (explicit_step_) f_B = &explicit_step_->step(cells_, flow_.velocity(), scene_.dt);
@@ -53,6 +67,15 @@ void Simulation::step() {
       throw RunFailure(m.str());
     }
   }
+  if (disk_constraint_) {  //     disks: their motion in u^{n+1}; G^{n+1} = G^n + Δt V^{n+1}, θ likewise
+    const std::vector<Eigen::Vector3d> q = disk_constraint_->rigid_motion(flow_.velocity());
+    for (std::size_t k = 0; k < disks_.size(); ++k) {
+      disks_[k].velocity = q[k].head<2>();
+      disks_[k].angular_velocity = q[k][2];
+      disks_[k].center += scene_.dt * disks_[k].velocity;
+      disks_[k].angle += scene_.dt * disks_[k].angular_velocity;
+    }
+  }
 }
 
 void Simulation::check_health() {
@@ -61,6 +84,7 @@ void Simulation::check_health() {
   s << " at t = " << time() << " s (step " << steps() << ")";
   const std::string when = s.str();
   if (!all_finite(u)) throw RunFailure("non-finite velocity" + when);
+  check_disks(when);
   const ChannelFlowParams& p = flow_.params();
   const double speed = max_speed(u);
   const double cfl = speed * p.dt / (p.advection_substeps * p.mesh_size);
@@ -102,12 +126,38 @@ void Simulation::check_health() {
         throw RunFailure(cell + " entered an obstacle (a membrane node at (" + std::to_string(r.x() * 1e6) + ", " +
                          std::to_string(r.y() * 1e6) + ") um)" + when + "; lower [time] dt");
     }
+    for (std::size_t d = 0; d < disks_.size(); ++d)
+      for (const auto& r : cells_[k].nodes) {
+        Eigen::Vector2d o = r - disks_[d].center;
+        o.x() -= scene_.length * std::round(o.x() / scene_.length);
+        if (o.norm() < disks_[d].radius)
+          throw RunFailure(cell + " entered disk " + std::to_string(d) + " (a membrane node " + std::to_string(o.norm() * 1e6) +
+                           " um from its centre, radius " + std::to_string(disks_[d].radius * 1e6) + " um)" + when + "; lower [time] dt");
+      }
     const double strain = max_strain(cells_[k].nodes, l0);
     if (strain > kMaxMembraneStrain) {
       std::ostringstream m;
       m << "membrane strain " << strain << " in " << cell << " exceeds " << kMaxMembraneStrain << when
         << ": the " << scene_.coupling << " coupling is unstable at this dt; lower [time] dt";
       throw RunFailure(m.str());
+    }
+  }
+}
+
+void Simulation::check_disks(const std::string& when) const {
+  for (std::size_t d = 0; d < disks_.size(); ++d) {
+    const Disk& k = disks_[d];
+    if (!std::isfinite(k.center.x()) || !std::isfinite(k.center.y()) || !std::isfinite(k.angular_velocity))
+      throw RunFailure("non-finite position or spin of disk " + std::to_string(d) + when);
+    if (k.center.y() - k.radius < scene_.mesh_size || k.center.y() + k.radius > scene_.height - scene_.mesh_size)
+      throw RunFailure("disk " + std::to_string(d) + " came within one mesh cell of a wall (centre at x2 = " + std::to_string(k.center.y() * 1e6) +
+                       " um)" + when + "; the contact force that would keep it off is not built yet");
+    for (std::size_t e = d + 1; e < disks_.size(); ++e) {
+      Eigen::Vector2d o = disks_[e].center - k.center;
+      o.x() -= scene_.length * std::round(o.x() / scene_.length);
+      if (o.norm() < k.radius + disks_[e].radius + scene_.mesh_size)
+        throw RunFailure("disks " + std::to_string(d) + " and " + std::to_string(e) + " came within one mesh cell of each other" + when +
+                         "; the contact force that would keep them apart is not built yet");
     }
   }
 }
@@ -120,6 +170,10 @@ void Simulation::save(CheckpointWriter& w) const {
   for (const Cell& c : cells_) w.put(c.nodes);
   w.put(speed_excess_time_);
   if (semi_implicit_step_) semi_implicit_step_->save(w);
+  if (!disks_.empty()) {  // (nothing for scenes without disks: their checkpoints stay as they were)
+    w.put(std::int64_t(disks_.size()));
+    for (const Disk& d : disks_) w.put(Points{d.center, d.velocity, Eigen::Vector2d(d.angular_velocity, d.angle)});
+  }
 }
 
 void Simulation::load(CheckpointReader& r) {
@@ -135,6 +189,18 @@ void Simulation::load(CheckpointReader& r) {
     throw CheckpointError(r.path() + ": time spent above the speed limit " + std::to_string(speed_excess_time_) +
                           " s out of range [0, " + std::to_string(time()) + "] s (the time of the run)");
   if (semi_implicit_step_) semi_implicit_step_->load(r, cells_);
+  if (!disks_.empty()) {
+    const std::int64_t n = r.get_int();
+    if (n != std::int64_t(disks_.size()))
+      throw CheckpointError(r.path() + ": holds " + std::to_string(n) + " disks, the scene has " + std::to_string(disks_.size()));
+    for (Disk& d : disks_) {
+      const Points v = r.get_points(3, "the state of a disk");
+      d.center = v[0];
+      d.velocity = v[1];
+      d.angular_velocity = v[2].x();
+      d.angle = v[2].y();
+    }
+  }
 }
 
 void Simulation::place_cell(std::size_t k, const Points& nodes) {

@@ -7,6 +7,7 @@
 
 #include "diagnostics/cell_diagnostics.hpp"
 #include "fictitious_domain/dlm_obstacle_step.hpp"
+#include "fictitious_domain/rigid_disks.hpp"
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/semi_implicit_coupling.hpp"
@@ -73,6 +74,9 @@ class Simulation {
   int last_cg_iterations() const { return last_projection_.iterations; }
   // The fictitious domain of the scene's obstacles (null: no obstacle, none of it built).
   const ObstacleConstraint* obstacles() const { return obstacles_.get(); }
+  // The scene's rigid disks (position, velocity, spin) and their step-4 constraint (null: none).
+  const std::vector<Disk>& disks() const { return disks_; }
+  const DiskConstraint* disk_constraint() const { return disk_constraint_.get(); }
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
   int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
   // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
@@ -92,8 +96,12 @@ class Simulation {
   std::unique_ptr<SemiImplicitMembraneStep> semi_implicit_step_;
   // Only when the scene has obstacles: step 4's multiplier (installed in the fluid's diffusion).
   std::unique_ptr<ObstacleConstraint> obstacles_;
+  // Only when the scene has disks: their state and step 4's rigid-motion multiplier.
+  std::vector<Disk> disks_;
+  std::unique_ptr<DiskConstraint> disk_constraint_;
   ProjectionReport last_projection_;
   double speed_excess_time_ = 0;
+  void check_disks(const std::string& when) const;  // check_health's part for the disks
   void build_cells();  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
 };
 
