@@ -8,6 +8,7 @@
 
 #include "fictitious_domain/rigid_disks.hpp"
 #include "fluid/channel_flow.hpp"
+#include "scene/simulation.hpp"
 
 namespace rbc {
 namespace {
@@ -178,6 +179,69 @@ TEST(RigidDisks, DiskInPoiseuilleFlowDriftsTowardAnEquilibriumBetweenWallAndCent
   const double near_wall = drift(3.5e-6), near_centre = drift(8.5e-6);
   EXPECT_GT(near_wall, 0.0);
   EXPECT_LT(near_centre, 0.0);
+}
+
+}  // namespace
+}  // namespace rbc
+
+namespace rbc {
+namespace {
+
+// The contact force (Simulation::contact_forces, [contact] range 2h, strength 1e-3 N/m): a disk
+// placed 1.5h off the bottom wall, and (another run) two disks 1.5h apart, in a fluid at rest
+// without a body force, are pushed apart: the gaps grow and the force falls (as (range − gap)²,
+// so the gap nears the range ever more slowly). The two disks, placed symmetrically about a mesh
+// line, move apart with opposite velocities. Measured 2026-11-24: wall gap 1.5, 1.62, 1.71 h and
+// pair gap 1.5, 1.71, 1.80 h at 0, 0.1, 0.3 ms; |V_0 + V_1| / max |V_0| = 8.6e-15.
+TEST(RigidDisks, ContactForcePushesDisksOffTheWallAndApart) {
+  auto run = [](const std::vector<DiskSpec>& disks, std::vector<double>* gaps, double* asymmetry, long* contact_steps) {
+    Scene s;
+    s.source = "test_rigid_disks contact";
+    s.length = 24e-6;
+    s.height = 10e-6;
+    s.mesh_size = 0.25e-6;
+    s.body_force = 0.0;
+    s.dt = 1e-6;
+    s.end = 3e-4;
+    s.projection = "incremental";
+    s.disks = disks;
+    Simulation sim(s);
+    auto gap = [&](const std::vector<Disk>& d) { return d.size() == 1 ? d[0].center.y() - d[0].radius : d[1].center.x() - d[0].center.x() - d[0].radius - d[1].radius; };
+    double worst = 0, peak = 0;
+    gaps->push_back(gap(sim.disks()));
+    for (long n = 0; n < std::lround(s.end / s.dt); ++n) {
+      sim.step();
+      sim.check_health();
+      const auto& d = sim.disks();
+      if (n == 99 || n == 299) gaps->push_back(gap(d));
+      if (d.size() == 2) {
+        peak = std::max(peak, std::abs(d[0].velocity.x()));
+        worst = std::max(worst, std::abs(d[0].velocity.x() + d[1].velocity.x()) + std::abs(d[0].velocity.y() + d[1].velocity.y()));
+      }
+    }
+    *asymmetry = peak > 0 ? worst / peak : 0;
+    *contact_steps = sim.contact_steps();
+    return sim.contact_forces();
+  };
+  const double r = 1.5e-6, h = 0.25e-6, gap = 1.5 * h;
+  std::vector<double> wall, pair;
+  double asym_wall = 0, asym_pair = 0;
+  long steps_wall = 0, steps_pair = 0;
+  const auto f_wall = run({{{5e-6, r + gap}, r}}, &wall, &asym_wall, &steps_wall);
+  const auto f_pair = run({{{12e-6 - r - gap / 2, 5e-6}, r}, {{12e-6 + r + gap / 2, 5e-6}, r}}, &pair, &asym_pair, &steps_pair);
+  std::printf("[ measured ] wall gap %.4f, %.4f, %.4f h at 0, 0.1, 0.3 ms (force now %.2e N/m, %ld steps with contact)\n", wall[0] / h,
+              wall[1] / h, wall[2] / h, f_wall[0].norm(), steps_wall);
+  std::printf("[ measured ] pair gap %.4f, %.4f, %.4f h (force now %.2e N/m, %ld steps); |V_0 + V_1| / max |V_0| = %.2e\n", pair[0] / h,
+              pair[1] / h, pair[2] / h, f_pair[0].norm(), steps_pair, asym_pair);
+  for (const auto* g : {&wall, &pair}) {
+    EXPECT_GT((*g)[1], (*g)[0] + 0.1 * h);
+    EXPECT_GT((*g)[2], (*g)[1]);
+    EXPECT_LT((*g)[2], 2 * h);
+  }
+  EXPECT_EQ(steps_wall, 300);
+  EXPECT_LT(f_wall[0].norm(), 1e-3 * 0.25 * 0.25);  // below its start, (0.5h / 2h)² of the strength
+  EXPECT_NEAR(f_pair[0].norm(), f_pair[1].norm(), 1e-20);
+  EXPECT_LE(asym_pair, 1e-8);
 }
 
 }  // namespace

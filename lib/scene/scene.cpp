@@ -29,6 +29,7 @@ const std::vector<TableSpec>& schema() {
       {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner",
                   "disk_tolerance"}},
       {"output", {"every", "vtk", "snapshots", "fields"}},
+      {"contact", {"range", "strength"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
   return s;
@@ -401,6 +402,12 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
   s.disk_tolerance = r.number("solver", "disk_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.disk_tolerance);
+  // The disks' contact force: range 2h unless given (the run stops at a gap below h).
+  s.contact_range = r.number("contact", "range", "m", 0, big, true, 2 * s.mesh_size);
+  s.contact_strength = r.number("contact", "strength", "N/m", 0, big, false, s.contact_strength);
+  if (s.contact_range <= s.mesh_size)
+    r.fail("[contact] range", "= " + um(s.contact_range) + " must exceed one mesh cell h = " + um(s.mesh_size) +
+                                  " (a disk closer than h to a wall or another disk stops the run)");
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
@@ -594,6 +601,7 @@ std::string scene_to_toml(const Scene& s) {
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
     << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
+  o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
   o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";

@@ -19,6 +19,9 @@
 //             (velocity left on the obstacle, relative to the field's largest), obstacle_preconditioner
 //             ("capacitance" | "none": the Uzawa CG's).
 //
+//   [contact] range (m, default 2h), strength (N/m): the disks' short-range repulsion (GPHJ 1999),
+//             F = strength ((range − gap)/range)² along the line of centres (another disk) or the
+//             wall's normal, for a gap below range (simulation.hpp)
 //   [[disk]]  center = [x, y] (m), radius (m): a neutrally buoyant rigid disk moving freely with
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
 //             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
@@ -96,6 +99,12 @@ struct Scene {
   // Freely moving rigid disks (empty: none of it is built).
   std::vector<DiskSpec> disks;
   double disk_tolerance = 1e-10;
+  // The disks' contact force (Simulation::contact_forces). Strength: 1e-3 N/m, about 100 times the
+  // drag on a disk of radius 2.8 um moving across the flow at 1 mm/s (≈ 10 μ v per unit length),
+  // the lateral speeds of the study's migrations; range: 2h, so that it acts before the run's
+  // stop at a gap of one mesh cell.
+  double contact_range = 0;         // m (set to 2h when read)
+  double contact_strength = 1e-3;   // N/m
   double fluid_area() const;  // m², L H minus the obstacles
   MembraneModel membrane_model() const {
     return MembraneModel::from(membrane_constants, membrane_nodes, membrane_radius, area_penalty);

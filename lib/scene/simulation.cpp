@@ -57,6 +57,7 @@ void Simulation::step() {
   if (explicit_step_) f_B = &explicit_step_->step(cells_, flow_.velocity(), scene_.dt);
   if (semi_implicit_step_) f_B = &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
   flow_.advect();                      // (3) wave-like advection → u^{n+2/3}
+  if (disk_constraint_) f_B = add_contact_forces(f_B);  // disks: + their contact forces over their area
   flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
   if (semi_implicit_step_) {           //     semi-implicit: + response to −S Δt K U^{n+1}
     try {
@@ -144,6 +145,54 @@ void Simulation::check_health() {
   }
 }
 
+std::vector<Eigen::Vector2d> Simulation::contact_forces() const {
+  const double range = scene_.contact_range > 0 ? scene_.contact_range : 2 * scene_.mesh_size, L = scene_.length;
+  std::vector<Eigen::Vector2d> F(disks_.size(), Eigen::Vector2d::Zero());
+  auto push = [&](double gap) { return gap < range ? scene_.contact_strength * (range - gap) * (range - gap) / (range * range) : 0.0; };
+  for (std::size_t a = 0; a < disks_.size(); ++a) {
+    const Disk& d = disks_[a];
+    F[a].y() += push(d.center.y() - d.radius) - push(scene_.height - d.center.y() - d.radius);  // the walls
+    for (std::size_t b = a + 1; b < disks_.size(); ++b) {
+      Eigen::Vector2d o = d.center - disks_[b].center;
+      o.x() -= L * std::round(o.x() / L);
+      const double dist = o.norm(), f = push(dist - d.radius - disks_[b].radius);
+      if (f > 0) {
+        F[a] += f * o / dist;
+        F[b] -= f * o / dist;
+      }
+    }
+  }
+  return F;
+}
+
+const VelocityField* Simulation::add_contact_forces(const VelocityField* f_B) {
+  const std::vector<Eigen::Vector2d> F = contact_forces();
+  bool any = false;
+  for (const auto& f : F) any = any || f.squaredNorm() > 0;
+  if (!any) return f_B;
+  ++contact_steps_;
+  // A uniform force density over each disk's nodes, F / (h² × their number): exactly F in all.
+  const ChannelMesh& m = flow_.mesh();
+  if (contact_field_.u1.size() != m.velocity_nodes()) contact_field_ = VelocityField(m);
+  if (f_B) contact_field_ = *f_B;
+  else {
+    std::fill(contact_field_.u1.begin(), contact_field_.u1.end(), 0.0);
+    std::fill(contact_field_.u2.begin(), contact_field_.u2.end(), 0.0);
+  }
+  const double h2 = m.h * m.h;
+  for (std::size_t k = 0; k < disks_.size(); ++k) {
+    const DiskPoints& p = disk_constraint_->points()[k];
+    const Eigen::Vector2d f = F[k] / (h2 * p.interior_nodes);
+    for (const auto* set : {&p.ring, &p.deep})
+      for (const auto& pt : *set)
+        if (pt.count == 1) {
+          contact_field_.u1[std::size_t(m.nx) + std::size_t(pt.nodes[0])] += f.x();
+          contact_field_.u2[std::size_t(m.nx) + std::size_t(pt.nodes[0])] += f.y();
+        }
+  }
+  return &contact_field_;
+}
+
 void Simulation::check_disks(const std::string& when) const {
   for (std::size_t d = 0; d < disks_.size(); ++d) {
     const Disk& k = disks_[d];
@@ -151,13 +200,13 @@ void Simulation::check_disks(const std::string& when) const {
       throw RunFailure("non-finite position or spin of disk " + std::to_string(d) + when);
     if (k.center.y() - k.radius < scene_.mesh_size || k.center.y() + k.radius > scene_.height - scene_.mesh_size)
       throw RunFailure("disk " + std::to_string(d) + " came within one mesh cell of a wall (centre at x2 = " + std::to_string(k.center.y() * 1e6) +
-                       " um)" + when + "; the contact force that would keep it off is not built yet");
+                       " um)" + when + "; the contact force ([contact]) did not keep it off: raise its strength or lower [time] dt");
     for (std::size_t e = d + 1; e < disks_.size(); ++e) {
       Eigen::Vector2d o = disks_[e].center - k.center;
       o.x() -= scene_.length * std::round(o.x() / scene_.length);
       if (o.norm() < k.radius + disks_[e].radius + scene_.mesh_size)
         throw RunFailure("disks " + std::to_string(d) + " and " + std::to_string(e) + " came within one mesh cell of each other" + when +
-                         "; the contact force that would keep them apart is not built yet");
+                         "; the contact force ([contact]) did not keep them apart: raise its strength or lower [time] dt");
     }
   }
 }
@@ -173,6 +222,7 @@ void Simulation::save(CheckpointWriter& w) const {
   if (!disks_.empty()) {  // (nothing for scenes without disks: their checkpoints stay as they were)
     w.put(std::int64_t(disks_.size()));
     for (const Disk& d : disks_) w.put(Points{d.center, d.velocity, Eigen::Vector2d(d.angular_velocity, d.angle)});
+    w.put(std::int64_t(contact_steps_));
   }
 }
 
@@ -200,6 +250,10 @@ void Simulation::load(CheckpointReader& r) {
       d.angular_velocity = v[2].x();
       d.angle = v[2].y();
     }
+    contact_steps_ = long(r.get_int());
+    if (contact_steps_ < 0 || contact_steps_ > steps())
+      throw CheckpointError(r.path() + ": steps with a contact force " + std::to_string(contact_steps_) + " out of range [0, " +
+                            std::to_string(steps()) + "]");
   }
 }
 

@@ -77,6 +77,11 @@ class Simulation {
   // The scene's rigid disks (position, velocity, spin) and their step-4 constraint (null: none).
   const std::vector<Disk>& disks() const { return disks_; }
   const DiskConstraint* disk_constraint() const { return disk_constraint_.get(); }
+  // The disks' contact forces (N/m) where they are now: for a gap g below the range ρ to another
+  // disk or a wall, strength · ((ρ − g)/ρ)² along the line of centres or the wall's normal (the
+  // repulsion of Glowinski, Pan, Hesla & Joseph 1999 with the gap written out). Central: no torque.
+  std::vector<Eigen::Vector2d> contact_forces() const;
+  long contact_steps() const { return contact_steps_; }  // steps in which a contact force acted
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
   int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
   // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
@@ -99,9 +104,13 @@ class Simulation {
   // Only when the scene has disks: their state and step 4's rigid-motion multiplier.
   std::vector<Disk> disks_;
   std::unique_ptr<DiskConstraint> disk_constraint_;
+  VelocityField contact_field_;  // step 4's force density with the contact forces (and f_B)
+  long contact_steps_ = 0;
   ProjectionReport last_projection_;
   double speed_excess_time_ = 0;
   void check_disks(const std::string& when) const;  // check_health's part for the disks
+  // Step 4's force density with the contact forces added (f_B itself when none acts).
+  const VelocityField* add_contact_forces(const VelocityField* f_B);
   void build_cells();  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
 };
 
