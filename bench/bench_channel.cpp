@@ -2,7 +2,7 @@
 // the same grid, measured in the same run (machines are noisy; ratios travel better); then the
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
 // Then the constriction (issue 15): the same steps with and without the fictitious domain.
-//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only]
+//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
 // transforms along x1 over the ny + 1 rows, which is what the fast solvers actually use.
@@ -232,16 +232,46 @@ static void bench_constriction() {
               fast * 1e6, constrained.last().iterations, with * 1e6, with / fast, f.pair2d * 1e6);
 }
 
+// Issue 16's comparison: four rigid disks (radius 2.8 um) against four s* = 1 cells at the same
+// places, (25, 10), (25, 40), (65, 10), (65, 40) um, on the wide grid (320 x 160, h = 0.3125 um),
+// semi-implicit at 2e-6 s (Q = 2), incremental pressure form, from the developed flow; per step
+// and as a ratio to an FFT pair of the grid. The disks' step rebuilds their collocation points
+// and capacitance factors (set_disks) at every step: its share is printed too.
+static void bench_disks() {
+  const FftPairs f = fft_pairs(320, 160);
+  std::printf("\nFour disks against four cells, wide grid 320x160, semi-implicit at 2e-6 s (FFT pair 2D: %.1f us)\n", f.pair2d * 1e6);
+  std::printf("%-22s %10s %10s %9s %9s\n", "bodies", "step_us", "steps/s", "step/2d", "gmres_it");
+  for (const bool disks : {false, true}) {
+    rbc::Scene s = wide_scene(0, "semi-implicit", 2e-6);
+    s.projection = "incremental";
+    for (const auto& c : std::vector<Eigen::Vector2d>{{25e-6, 10e-6}, {25e-6, 40e-6}, {65e-6, 10e-6}, {65e-6, 40e-6}}) {
+      if (disks) s.disks.push_back({c, 2.8e-6});
+      else s.cells.push_back({c, 1.0, 0.0});
+    }
+    rbc::Simulation sim(s);
+    sim.start_from_cell_free_profile();
+    for (int i = 0; i < 10; ++i) { sim.step(); sim.check_health(); }
+    const double step = seconds_per_call([&] { sim.step(); sim.check_health(); }, 3.0);
+    std::printf("%-22s %10.1f %10.1f %9.2f %9d\n", disks ? "4 disks (r = 2.8 um)" : "4 cells (s* = 1)", step * 1e6, 1.0 / step,
+                step / f.pair2d, sim.last_coupling_iterations());
+  }
+}
+
 int main(int argc, char** argv) {
   int threads = 0;
-  bool cells_only = false, target_only = false, constriction_only = false;
+  bool cells_only = false, target_only = false, constriction_only = false, disks_only = false;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
     if (std::string(argv[a]) == "--target-only") target_only = true;
     if (std::string(argv[a]) == "--constriction-only") constriction_only = true;
+    if (std::string(argv[a]) == "--disks-only") disks_only = true;
   }
   if (threads > 0) omp_set_num_threads(threads);
+  if (disks_only) {
+    bench_disks();
+    return 0;
+  }
   if (constriction_only) {
     bench_constriction();
     return 0;
@@ -286,5 +316,6 @@ int main(int argc, char** argv) {
   bench_cells();
   bench_target(10);
   bench_constriction();
+  bench_disks();
   return 0;
 }

@@ -138,6 +138,8 @@ std::vector<Case> corpus() {
        {"[[disk]] 0 and 1", "overlap"}},
       {"cell starting on a disk", kGood + cell("center = [5e-6, 3e-6]\nswelling_ratio = 0.55\n") + "[[disk]]\ncenter = [7e-6, 6e-6]\nradius = 2e-6\n", run, 2,
        {"[[cell]] 0", "[[disk]] 0"}},
+      {"cell with zero bending stiffness", kGood + cell("center = [5e-6, 3e-6]\nswelling_ratio = 0.55\nkb_scale = 0.0\n"), run, 2,
+       {"kb_scale", "out of range"}},
       {"contact range within one mesh cell", kGood + "[contact]\nrange = 0.3e-6\n", run, 2, {"[contact] range", "must exceed one mesh cell"}},
       {"disk with an obstacle", kGood + "[[disk]]\ncenter = [15e-6, 5e-6]\nradius = 2e-6\n[[obstacle]]\nx = [4e-6, 6e-6]\ny = [0.0, 3e-6]\n", run, 2,
        {"[[disk]]", "not supported"}},

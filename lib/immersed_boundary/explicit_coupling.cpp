@@ -19,7 +19,7 @@ const VelocityField& ExplicitMembraneStep::step(std::vector<Cell>& cells, const 
     interpolate_velocity(mesh_, u, c.nodes, U_);
     for (std::size_t i = 0; i < c.nodes.size(); ++i) c.nodes[i] += dt * U_[i];
     // (8) Forces at the new positions, (10) spread to the mesh.
-    membrane_energy(model_, c.nodes, c.target_area, &F_);
+    membrane_energy(c.kb_scale == 1 ? model_ : model_of(model_, c.kb_scale), c.nodes, c.target_area, &F_);
     node_stencils(mesh_, c.nodes, stencils_[k]);
     spread_forces(mesh_, stencils_[k], F_, force_);
   }

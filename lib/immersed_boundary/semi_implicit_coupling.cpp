@@ -274,7 +274,7 @@ void SemiImplicitMembraneStep::rebuild_blocks(const std::vector<Cell>& cells, bo
     if (move)
       for (std::size_t i = 0; i < at.size(); ++i)
         at[i] += 0.5 * refresh_steps_ * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
-    build_block(c, at, cells[c].target_area);
+    build_block(c, at, cells[c].target_area, cells[c].kb_scale);
     block_nodes_[c] = at;
   }
   cost_.block_builds += ncells;
@@ -342,10 +342,11 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   several_ = ncells > 1 || !x1_invariant_;
   blocks_.resize(ncells);
 #pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < ncells; ++c) blocks_[c].K = membrane_stiffness(model_, cells[c].nodes, cells[c].target_area);  // at r^{n+1}: the system's K
+  for (int c = 0; c < ncells; ++c)  // at r^{n+1}: the system's K
+    blocks_[c].K = membrane_stiffness(model_of(model_, cells[c].kb_scale), cells[c].nodes, cells[c].target_area);
   if (!several_) {
     block_nodes_.clear();
-    build_block(0, cells[0].nodes, cells[0].target_area);
+    build_block(0, cells[0].nodes, cells[0].target_area, cells[0].kb_scale);
     ++cost_.block_builds;
   } else if (int(block_nodes_.size()) != ncells || rebuild_now_ || steps_since_rebuild_ >= refresh_steps_) {
     if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(max_refresh_steps_, refresh_steps_ + 1);
@@ -402,10 +403,10 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   return correction_;
 }
 
-void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area) {
+void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area, double kb_scale) {
   // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r); with
   // several cells M̄_cc, M averaged over the cell's phase on the grid along x1 (step_mobility.hpp).
-  const MembraneStiffness K = membrane_stiffness(model_, r, target_area);
+  const MembraneStiffness K = membrane_stiffness(model_of(model_, kb_scale), r, target_area);
   Eigen::MatrixXd M;
   if (several_)
     mobility_.phase_averaged_matrix(r, M);  // a preconditioner that a cell carried along x1 keeps
@@ -472,7 +473,7 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
   if (several_ && !block_nodes_.empty()) mobility_.prepare_phase_average(phase_average_extent(model_));
   blocks_.resize(block_nodes_.size());
 #pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area);
+  for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area, cells[c].kb_scale);
 }
 
 }  // namespace rbc

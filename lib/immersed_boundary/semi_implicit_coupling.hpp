@@ -153,7 +153,7 @@ class SemiImplicitMembraneStep {
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
   static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
-  void build_block(int c, const Points& r, double target_area);
+  void build_block(int c, const Points& r, double target_area, double kb_scale);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v);
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);

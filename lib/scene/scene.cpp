@@ -10,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "immersed_boundary/step_mobility.hpp"
+#include "membrane/cell.hpp"
 #include "membrane/shape_preparation.hpp"
 
 namespace rbc {
@@ -36,7 +37,7 @@ const std::vector<TableSpec>& schema() {
 }
 // Tables of SPEC section 8 that need parts of the method this version does not have yet.
 const std::vector<std::string> kNotYet = {};
-const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle"};
+const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle", "kb_scale"};
 const std::vector<std::string> kObstacleKeys = {"x", "y", "wall"};
 const std::vector<std::string> kDiskKeys = {"center", "radius"};
 
@@ -434,6 +435,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       cs.center = {center[0], center[1]};
       cs.swelling_ratio = r.number(name, "swelling_ratio", "(s*)", 0.0, 1.0, true);
       cs.angle = r.number(name, "angle", "rad", -100.0, 100.0, false, 0.0);
+      cs.kb_scale = r.number(name, "kb_scale", "(times [membrane] kb)", 0.0, 1e6, true, 1.0);
       s.cells.push_back(cs);
       r.enter(nullptr, "");
     }
@@ -491,12 +493,13 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   // Cells: inside the channel and not overlapping (each prepared as the run will prepare it).
   if (!s.cells.empty()) {
     const MembraneModel mm = s.membrane_model();
-    std::map<double, PreparedShape> shapes;
+    std::map<std::pair<double, double>, PreparedShape> shapes;  // by (s*, k_b scale): k_b/k_l enters the shape
     std::vector<Points> placed;
     for (std::size_t k = 0; k < s.cells.size(); ++k) {
       const CellSpec& c = s.cells[k];
-      if (!shapes.count(c.swelling_ratio)) shapes.emplace(c.swelling_ratio, prepare_shape(mm, c.swelling_ratio));
-      placed.push_back(place_shape(shapes.at(c.swelling_ratio), c.center, c.angle));
+      const std::pair<double, double> key{c.swelling_ratio, c.kb_scale};
+      if (!shapes.count(key)) shapes.emplace(key, prepare_shape(model_of(mm, c.kb_scale), c.swelling_ratio));
+      placed.push_back(place_shape(shapes.at(key), c.center, c.angle));
       for (const auto& p : placed.back())
         if (!(p.y() > 0.0 && p.y() < s.height)) {
           std::ostringstream m;
@@ -610,7 +613,7 @@ std::string scene_to_toml(const Scene& s) {
     << "\nunits = \"" << s.membrane_constants.units << "\"\narea_penalty = " << (s.area_penalty ? "true" : "false") << "\n";
   for (const CellSpec& c : s.cells)
     o << "[[cell]]\ncenter = [" << num(c.center.x()) << ", " << num(c.center.y()) << "]\nswelling_ratio = "
-      << num(c.swelling_ratio) << "\nangle = " << num(c.angle) << "\n";
+      << num(c.swelling_ratio) << "\nangle = " << num(c.angle) << "\nkb_scale = " << num(c.kb_scale) << "\n";
   for (const Obstacle& b : s.obstacles)
     o << "[[obstacle]]\nx = [" << num(b.x[0]) << ", " << num(b.x[1]) << "]\ny = [" << num(b.y[0]) << ", " << num(b.y[1])
       << "]\nwall = \"" << (b.wall.empty() ? "none" : b.wall) << "\"\n";

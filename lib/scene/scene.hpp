@@ -12,7 +12,8 @@
 //             fields (bool: the velocity field at the snapshot times, field_<k>.dat)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
 //              area_penalty (E_s in the flow force, bool)            — optional, the study's values
-//   [[cell]]  center = [x, y] (m), swelling_ratio (s*), angle (rad, long axis from x1)
+//   [[cell]]  center = [x, y] (m), swelling_ratio (s*), angle (rad, long axis from x1),
+//             kb_scale (this cell's k_b over [membrane] kb; the study's stiffer cells, Sec. 4.2)
 //   [[obstacle]] x = [a, b], y = [c, d] (m), a fixed rectangle held by the fictitious-domain
 //             method (lib/fictitious_domain); its edges on mesh lines; wall = "bottom" | "top"
 //             (optional: checked that it stands on that wall). [solver] obstacle_tolerance
@@ -55,6 +56,7 @@ struct CellSpec {
   Eigen::Vector2d center{0, 0};  // m
   double swelling_ratio = 1.0;   // s*
   double angle = 0.0;            // rad
+  double kb_scale = 1.0;         // this cell's k_b over [membrane] kb (k_l, k_s unchanged)
 };
 
 struct DiskSpec {

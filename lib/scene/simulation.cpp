@@ -39,10 +39,11 @@ void Simulation::build_cells() {
   const Scene& scene = scene_;
   if (scene.cells.empty()) return;
   // Prepare each swelling ratio once (Remark 2.1) and place the cells.
-  std::map<double, PreparedShape> shapes;
+  std::map<std::pair<double, double>, PreparedShape> shapes;  // by (s*, k_b scale): k_b/k_l enters the shape
   for (const CellSpec& c : scene.cells) {
-    if (!shapes.count(c.swelling_ratio)) shapes.emplace(c.swelling_ratio, prepare_shape(model_, c.swelling_ratio));
-    cells_.push_back(make_cell(shapes.at(c.swelling_ratio), c.swelling_ratio, c.center, c.angle));
+    const std::pair<double, double> key{c.swelling_ratio, c.kb_scale};
+    if (!shapes.count(key)) shapes.emplace(key, prepare_shape(model_of(model_, c.kb_scale), c.swelling_ratio));
+    cells_.push_back(make_cell(shapes.at(key), c.swelling_ratio, c.center, c.angle, c.kb_scale));
   }
   if (scene.coupling == "semi-implicit")
     semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance);
