@@ -27,7 +27,9 @@
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
 //             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
 //             relative to the field's largest). Disks and obstacles in one scene are not
-//             supported yet.
+//             supported yet. Use the study's pressure form with disks ([time] projection =
+//             "study", the default): the incremental form's lagged pressure pushes a spinning,
+//             moving disk sideways at ≈ ω V Δt (tests/test_rigid_disks.cpp).
 #include <algorithm>
 #include <optional>
 #include <stdexcept>
