@@ -234,7 +234,7 @@ static void bench_constriction() {
 
 // Issue 16's comparison: four rigid disks (radius 2.8 um) against four s* = 1 cells at the same
 // places, (25, 10), (25, 40), (65, 10), (65, 40) um, on the wide grid (320 x 160, h = 0.3125 um),
-// semi-implicit at 2e-6 s (Q = 2), incremental pressure form, from the developed flow; per step
+// semi-implicit at 2e-6 s (Q = 2), the study's pressure form, from the developed flow; per step
 // and as a ratio to an FFT pair of the grid. The disks' step rebuilds their collocation points
 // and capacitance factors (set_disks) at every step: its share is printed too.
 static void bench_disks() {
@@ -243,7 +243,6 @@ static void bench_disks() {
   std::printf("%-22s %10s %10s %9s %9s\n", "bodies", "step_us", "steps/s", "step/2d", "gmres_it");
   for (const bool disks : {false, true}) {
     rbc::Scene s = wide_scene(0, "semi-implicit", 2e-6);
-    s.projection = "incremental";
     for (const auto& c : std::vector<Eigen::Vector2d>{{25e-6, 10e-6}, {25e-6, 40e-6}, {65e-6, 10e-6}, {65e-6, 40e-6}}) {
       if (disks) s.disks.push_back({c, 2.8e-6});
       else s.cells.push_back({c, 1.0, 0.0});
