@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "fictitious_domain/field_scans.hpp"
+
 namespace rbc {
 
 UzawaPreconditioner parse_uzawa_preconditioner(const std::string& name) {
@@ -62,18 +64,6 @@ ObstacleConstraint::ObstacleConstraint(const ObstacleGeometry& geometry, Periodi
 }
 
 namespace {
-
-// max |x_k| over n values: four running maxima, so that the loop is not one long chain of
-// dependent comparisons (this scan ran over the grid three times per solve and was the
-// constraint's largest cost, 2026-11-24 perf profile).
-double max_abs(const double* x, std::size_t n) {
-  double m[4] = {0, 0, 0, 0};
-  std::size_t k = 0;
-  for (; k + 4 <= n; k += 4)
-    for (int l = 0; l < 4; ++l) m[l] = std::max(m[l], std::abs(x[k + l]));
-  for (; k < n; ++k) m[0] = std::max(m[0], std::abs(x[k]));
-  return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
-}
 
 // x ← x − α y over n values, returning max |x| of the result (the update and the field's scale in
 // one pass).

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "fictitious_domain/field_scans.hpp"
+
 namespace rbc {
 
 namespace {
@@ -13,15 +15,6 @@ namespace {
 // The rigid motion's rows at a point x − G = o: component 0 (1, 0, −o2), component 1 (0, 1, o1).
 Eigen::RowVector3d rigid_row(int component, const Eigen::Vector2d& o) {
   return component == 0 ? Eigen::RowVector3d(1.0, 0.0, -o.y()) : Eigen::RowVector3d(0.0, 1.0, o.x());
-}
-
-double max_abs(const double* x, std::size_t n) {
-  double m[4] = {0, 0, 0, 0};
-  std::size_t k = 0;
-  for (; k + 4 <= n; k += 4)
-    for (int l = 0; l < 4; ++l) m[l] = std::max(m[l], std::abs(x[k + l]));
-  for (; k < n; ++k) m[0] = std::max(m[0], std::abs(x[k]));
-  return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
 }
 
 // u read at a point (a node or bilinear).
