@@ -12,11 +12,11 @@ QUICK      ?= 0
 REUSE      ?= 0    # 1: write the report from results/ already on disk (see paper/make_report.sh)
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
-                libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+                libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev parallel
 FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
-EXPERIMENTS := channel_flow single_cell_migration stability_map constriction
+EXPERIMENTS := channel_flow single_cell_migration four_cells_vs_disks stability_map constriction
 
 .PHONY: all deps build test test-release test-sanitize reproduce bench fuzz clean
 

@@ -55,8 +55,20 @@ for exp in "$@"; do
   if [ "${REUSE:-0}" = "1" ] && "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--reuse'; then
     reuse_flag="--reuse"; wall_note=" (with --reuse: cases finished on disk are read back, not run again; each case's own run time is in the tables below)"
   fi
-  echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
   start=$(date +%s)
+  # An experiment made of independent cases (--list-cases) runs them with GNU parallel, one
+  # thread per case on every core, then collects them with --check --reuse (README.md: the same
+  # commands spread the cases over machines or a Slurm array).
+  if "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--list-cases'; then
+    mkdir -p "$dir"
+    echo "rbcflow: running the cases of $exp $quick_flag with GNU parallel -j $(nproc)" >&2
+    "$BUILD/bin/$exp" --list-cases $quick_flag | parallel --will-cite -j "$(nproc)" --joblog "$dir/joblog" \
+      "$BUILD/bin/$exp" --out "$dir" $quick_flag $reuse_flag --only {} --threads 1 ">" "$dir/{}.log" "2>&1" \
+      || echo "rbcflow: some cases of $exp stopped (their rows say why; logs in $dir/)" >&2
+    reuse_flag="--reuse"
+    wall_note=" (its cases run with GNU parallel on $(nproc) cores, one thread each; each case's wall time is in the tables below)"
+  fi
+  echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
   "$BUILD/bin/$exp" --out "$dir" --check $quick_flag $reuse_flag > "$dir.log" 2>&1
   rc=$?
   wall="$(( $(date +%s) - start )) s$wall_note"
@@ -79,10 +91,16 @@ for exp in "$@"; do
       echo
     fi
     if [ -f "$dir/cases.csv" ]; then
-      echo "Every run of this experiment (wall time per run, one thread each; Re averaged over the last sample interval):"
+      echo "Every run of this experiment (wall time per run, one thread each; columns as defined in the experiment's README):"
       echo
       awk -F, 'NR==1{h="|"; s="|"; for(i=1;i<=NF;i++){h=h" "$i" |"; s=s"---|"}; print h; print s; next}
                {r="|"; for(i=1;i<=NF;i++){r=r" "$i" |"}; print r}' "$dir/cases.csv"
+      echo
+    fi
+    if [ -f "$dir/spread.md" ]; then
+      echo "### The ensemble and the tolerances"
+      echo
+      cat "$dir/spread.md"
       echo
     fi
     if [ -f "$dir/convergence.md" ]; then

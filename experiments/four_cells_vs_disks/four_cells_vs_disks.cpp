@@ -1,0 +1,473 @@
+#include "four_cells_vs_disks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+#include <tuple>
+
+#include "fluid/channel_flow.hpp"
+#include "io/csv.hpp"
+
+namespace rbc::four_cells_vs_disks {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kSceneFile = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/four_cells_vs_disks/four_cells_vs_disks.toml";
+constexpr double kPi = 3.141592653589793;
+
+std::string num(double v) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+// A uniform number in [-1, 1) from the generator's raw 32-bit output (the same on every
+// platform, unlike std::uniform_real_distribution).
+double symmetric_unit(std::mt19937& g) { return 2.0 * (double(g()) / 4294967296.0) - 1.0; }
+
+// The bodies' centres of a case: the study's places, or each moved by a uniform amount in
+// [-kPerturbation, kPerturbation]² drawn from the seed.
+std::array<std::array<double, 2>, 4> places(unsigned seed) {
+  auto p = kPlaces;
+  if (seed == 0) return p;
+  std::mt19937 g(seed);
+  for (auto& c : p)
+    for (double& v : c) v += kPerturbation * symmetric_unit(g);
+  return p;
+}
+
+double periodic_gap(double a, double b, double L) {
+  double d = a - b;
+  d -= L * std::round(d / L);
+  return std::abs(d);
+}
+
+// (4πA/P²) over that of the regular N-gon: 1 for a circle of N nodes.
+double circularity(double area, double perimeter, int nodes) {
+  return 4 * kPi * area / (perimeter * perimeter) / (kPi / (nodes * std::tan(kPi / nodes)));
+}
+
+double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from) {
+  double s = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < t.size(); ++k)
+    if (t[k] >= from - 1e-12) { s += v[k]; ++n; }
+  return n ? s / n : NAN;
+}
+
+std::string case_label(const Case& c) {
+  if (c.disks) return "4 rigid disks r = 2.8 um";
+  char b[96];
+  std::snprintf(b, sizeof b, "4 cells s* = %g, %g k_b", c.swelling_ratio, c.kb_scale);
+  return b;
+}
+
+}  // namespace
+
+Scene case_scene(const Case& c, bool quick) {
+  std::ifstream in(kSceneFile);
+  if (!in) throw std::runtime_error("four_cells_vs_disks: cannot read " + kSceneFile);
+  std::ostringstream text;
+  text << in.rdbuf() << "\n";
+  for (const auto& at : places(c.seed)) {
+    if (c.disks)
+      text << "[[disk]]\ncenter = [" << num(at[0]) << ", " << num(at[1]) << "]\nradius = " << num(kDiskRadius) << "\n";
+    else
+      text << "[[cell]]\ncenter = [" << num(at[0]) << ", " << num(at[1]) << "]\nswelling_ratio = " << num(c.swelling_ratio)
+           << "\nkb_scale = " << num(c.kb_scale) << "\n";
+  }
+  std::vector<std::string> o;
+  const double h = c.h > 0 ? c.h : quick ? kQuickMesh : 0;
+  if (h > 0) o.push_back("channel.mesh_size=" + num(h));
+  if (!c.coupling.empty()) o.push_back("time.coupling=\"" + c.coupling + "\"");
+  const double end = c.end > 0 ? c.end : quick ? kQuickEnd : 0;
+  if (end > 0) {
+    o.push_back("time.end=" + num(end));
+    o.push_back(end < 0.01 ? "output.snapshots=[0.0, " + num(end) + "]" : "output.snapshots=[0.0, 0.05, 0.1, " + num(end) + "]");
+    if (end <= kConvTime) o.push_back("output.every=" + num(end / 10));
+  }
+  if (c.dt > 0) {
+    // Q from the cell-free channel's advective bound at this h (the scene refuses a Δt above Q
+    // times it; the bound does not depend on Δt, so it is read before Δt is changed).
+    Scene q1 = parse_scene(text.str(), kSceneFile, o);
+    q1.advection_substeps = 1;
+    const int q = std::max(1, int(std::ceil(c.dt / advective_dt_bound(q1.flow_params()) * (1 - 1e-12))));
+    o.push_back("time.dt=" + num(c.dt));
+    o.push_back("time.advection_substeps=" + std::to_string(q));
+  }
+  Scene s = parse_scene(text.str(), kSceneFile, o);
+  s.source = "four_cells_vs_disks " + c.name + (quick ? " quick" : "");
+  return s;
+}
+
+std::vector<Case> cases(const Params& p) {
+  std::vector<Case> v;
+  auto cells = [](std::string name, std::string role, double s, double kb) {
+    Case c;
+    c.name = std::move(name);
+    c.role = std::move(role);
+    c.swelling_ratio = s;
+    c.kb_scale = kb;
+    return c;
+  };
+  auto disks = [](std::string name, std::string role) {
+    Case c;
+    c.name = std::move(name);
+    c.role = std::move(role);
+    c.disks = true;
+    return c;
+  };
+  // Evidence first (the Δt-halved runs are the longest), then the study's cells, the ensemble,
+  // the disks (cheaper per step than the cells), the h-doubled runs, the 1 ms convergence runs.
+  if (p.evidence && !p.quick) {
+    Case a = cells("kb1_dt3us", "evidence", 1.0, 1.0), b = disks("disks_dt3us", "evidence");
+    a.dt = b.dt = 3e-6;
+    v.push_back(a);
+    v.push_back(b);
+  }
+  for (double kb : {1.0, 10.0, 100.0, 1000.0}) v.push_back(cells("kb" + num(kb), "study", 1.0, kb));
+  v.push_back(cells("s07", "study", 0.7, 1.0));
+  const std::vector<unsigned> seeds = p.quick ? std::vector<unsigned>{1} : p.seeds;
+  for (unsigned s : seeds) {
+    Case c = cells("kb1_seed" + std::to_string(s), "ensemble", 1.0, 1.0);
+    c.seed = s;
+    v.push_back(c);
+  }
+  v.push_back(disks("disks", "study"));
+  for (unsigned s : seeds) {
+    Case c = disks("disks_seed" + std::to_string(s), "ensemble");
+    c.seed = s;
+    v.push_back(c);
+  }
+  if (p.evidence && !p.quick) {
+    Case a = cells("kb1_h0.625um", "evidence", 1.0, 1.0), b = disks("disks_h0.625um", "evidence");
+    a.h = b.h = 0.625e-6;
+    v.push_back(a);
+    v.push_back(b);
+  }
+  if (p.convergence && !p.quick) {
+    // Error against run time (issue 16, item 5): the k_b cells with both couplings and the disks,
+    // from rest to kConvTime, over h and Δt. Explicit below its stability limit (8e-8 s at
+    // h = 0.3125 um for one cell, the stability map; 1e-7 s stops from rest in the constriction).
+    struct Job { std::string kind; double h; std::vector<double> dts; };
+    const std::vector<Job> jobs = {{"explicit", 0.3125e-6, {5e-8, 2.5e-8}},
+                                   {"explicit", 0.625e-6, {1e-7, 5e-8}},
+                                   {"semi-implicit", 0.3125e-6, {1.2e-5, 6e-6, 3e-6, 1.5e-6}},
+                                   {"semi-implicit", 0.625e-6, {1.2e-5, 6e-6, 3e-6, 1.5e-6}},
+                                   {"disks", 0.3125e-6, {1.2e-5, 6e-6, 3e-6, 1.5e-6}},
+                                   {"disks", 0.625e-6, {1.2e-5, 6e-6, 3e-6, 1.5e-6}}};
+    for (const Job& j : jobs)
+      for (double dt : j.dts) {
+        char name[96];
+        std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", j.kind == "semi-implicit" ? "si" : j.kind.c_str(), j.h * 1e6, dt);
+        Case c = j.kind == "disks" ? disks(name, "convergence") : cells(name, "convergence", 1.0, 1.0);
+        if (j.kind != "disks") c.coupling = j.kind;
+        c.h = j.h;
+        c.dt = dt;
+        c.end = std::round(kConvTime / dt) * dt;
+        v.push_back(c);
+      }
+  }
+  return v;
+}
+
+namespace {
+
+// Runs (or reads back) one case and extracts its series.
+CaseResult run_case(const Params& p, const Case& c) {
+  CaseResult r;
+  r.spec = c;
+  const Scene scene = case_scene(c, p.quick);
+  const fs::path out = fs::path(p.out_dir) / c.name;
+  try {
+    const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), scene) : std::nullopt;
+    const bool resume = p.resume && !done && fs::exists(out / "checkpoint.bin");
+    r.summary = done ? *done
+                     : run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress,
+                                         .label = "four_cells_vs_disks " + c.name, .checkpoint_wall = 300, .resume = resume});
+  } catch (const RunFailure& e) {
+    r.failure = e.what();
+  }
+  const std::string series = (out / "series.csv").string();
+  if (!fs::exists(series)) {
+    if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
+    return r;
+  }
+  r.t = csv_column(series, "t");
+  const std::size_t n = r.t.size();
+  r.x.assign(n, {});
+  r.y.assign(n, {});
+  const std::string body = c.disks ? "disk" : "cell";
+  for (int b = 0; b < 4; ++b) {
+    const auto x = csv_column(series, body + std::to_string(b) + "_x"), y = csv_column(series, body + std::to_string(b) + "_y");
+    for (std::size_t k = 0; k < n; ++k) {
+      r.x[k][b] = x[k];
+      r.y[k][b] = y[k];
+    }
+    if (!c.disks) {
+      const auto a = csv_column(series, "cell" + std::to_string(b) + "_area"), per = csv_column(series, "cell" + std::to_string(b) + "_perimeter");
+      r.circularity_end[b] = circularity(a.back(), per.back(), scene.membrane_nodes);
+    }
+  }
+  const double H = scene.height, L = scene.length;
+  std::vector<double> dist(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    double s = 0;
+    for (int b = 0; b < 4; ++b) s += std::abs(r.y[k][b] - H / 2);
+    dist[k] = s / 4;
+  }
+  const double from = r.t.back() - kWindow;
+  r.distance = window_mean(r.t, dist, from);
+  r.reynolds = window_mean(r.t, csv_column(series, "reynolds"), from);
+  std::size_t early = n - 1;
+  for (std::size_t k = 0; k < n; ++k)
+    if (r.t[k] >= kEarly - 1e-12) { early = k; break; }
+  r.distance_early = dist[early];
+  // Staggered: each body's x1-distance to the nearest body on the other side of the centreline.
+  double sum = 0;
+  int counted = 0;
+  for (int b = 0; b < 4; ++b) {
+    double best = INFINITY;
+    for (int o = 0; o < 4; ++o)
+      if ((r.y[n - 1][b] < H / 2) != (r.y[n - 1][o] < H / 2)) best = std::min(best, periodic_gap(r.x[n - 1][b], r.x[n - 1][o], L));
+    if (std::isfinite(best)) { sum += best; ++counted; }
+  }
+  r.stagger = counted ? sum / counted : INFINITY;
+  // The heights for Figs. 6-8 (t ms, x2 of each body um, their mean distance um) and the disks at the end.
+  std::ofstream f(fs::path(p.out_dir) / ("heights_" + c.name + ".dat"));
+  f << "# " << case_label(c) << (c.seed ? ", perturbed start seed " + std::to_string(c.seed) : "") << "\n# t (ms), x2 of the 4 centroids (um), mean |x2 - H/2| (um)\n";
+  for (std::size_t k = 0; k < n; ++k) {
+    f << r.t[k] * 1e3;
+    for (int b = 0; b < 4; ++b) f << " " << r.y[k][b] * 1e6;
+    f << " " << dist[k] * 1e6 << "\n";
+  }
+  if (c.disks) {
+    std::ofstream d(out / "disks_end.dat");
+    d << "# x1 (um, in [0, L)), x2 (um), radius (um) of each disk at t = " << r.t.back() << " s\n";
+    for (int b = 0; b < 4; ++b) d << (r.x[n - 1][b] - L * std::floor(r.x[n - 1][b] / L)) * 1e6 << " " << r.y[n - 1][b] * 1e6 << " " << kDiskRadius * 1e6 << "\n";
+  }
+  return r;
+}
+
+double mean_of(const std::array<double, 4>& a) { return (a[0] + a[1] + a[2] + a[3]) / 4; }
+
+// The tolerance evidence (issue 16, item 4): for the k_b cells and the disks, the spread of the
+// distance and of Re over the study's start and the perturbed ones, the change with Δt halved and
+// with h doubled; the tolerance this evidence gives, by the rule fixed before the first
+// comparison (README.md): 2 s + |v(Δt) − v(Δt/2)| + |v(2h) − v(h)|/3 (s the sample standard
+// deviation; first order in Δt; second order in h, so that the 2h run's change is 3 times the
+// error at h).
+std::string spread_table(const Params& p, const Results& res) {
+  std::ostringstream md;
+  md << "Spread over perturbed starts (every centre moved by a uniform amount in [-" << kPerturbation * 1e6 << ", "
+     << kPerturbation * 1e6 << "] um in x1 and x2, seeded) and the change with Δt halved and h doubled; tolerance = 2 s + |Δ(Δt)| + "
+        "|Δ(2h)|/3:\n\n| quantity | study's start | perturbed starts | mean | s | Δt/2 run − run | 2h run − run | tolerance from this |\n"
+        "|---|---|---|---|---|---|---|---|\n";
+  for (const std::string base : {"kb1", "disks"})
+    for (const bool re : {false, true}) {
+      if (re && base == "disks") continue;  // the disks' Re is not a row
+      if (!res.cases.count(base) || !res.cases.at(base).failure.empty()) continue;
+      auto val = [&](const CaseResult& r) { return re ? r.reynolds : r.distance * 1e6; };
+      std::vector<double> v = {val(res.cases.at(base))};
+      std::string members;
+      for (unsigned s : p.quick ? std::vector<unsigned>{1} : p.seeds) {
+        const std::string name = base + "_seed" + std::to_string(s);
+        if (!res.cases.count(name) || !res.cases.at(name).failure.empty()) { members += " (" + name + " failed)"; continue; }
+        v.push_back(val(res.cases.at(name)));
+        char b[32];
+        std::snprintf(b, sizeof b, " %.4f", v.back());
+        members += b;
+      }
+      const double mean = std::accumulate(v.begin(), v.end(), 0.0) / v.size();
+      double ss = 0;
+      for (double x : v) ss += (x - mean) * (x - mean);
+      const double sd = v.size() > 1 ? std::sqrt(ss / (v.size() - 1)) : NAN;
+      auto change = [&](const std::string& name) {
+        return res.cases.count(name) && res.cases.at(name).failure.empty() ? val(res.cases.at(name)) - v[0] : NAN;
+      };
+      const double ddt = change(base + "_dt3us"), dh = change(base + "_h0.625um");
+      const double tol = 2 * sd + (std::isfinite(ddt) ? std::abs(ddt) : 0) + (std::isfinite(dh) ? std::abs(dh) / 3 : 0);
+      char row[400];
+      std::snprintf(row, sizeof row, "| %s, %s | %.4f |%s | %.4f | %.4f | %+.4f | %+.4f | %.4f%s |\n", re ? "Re" : "distance (um)",
+                    base == "kb1" ? "4 cells k_b" : "4 disks", v[0], members.c_str(), mean, sd, ddt, dh, tol,
+                    re ? (" (" + std::to_string(tol / v[0] * 100).substr(0, 4) + " %)").c_str() : "");
+      md << row;
+    }
+  return md.str();
+}
+
+// The work-precision table (issue 16, item 5): RMS centroid error at kConvTime against the finest
+// run of the same bodies (cells: the explicit one at h = 0.3125 um and the smallest Δt; disks: the
+// smallest Δt at h = 0.3125 um), its lateral part, and the wall time.
+std::string convergence_table(const Params& p, const Results& res) {
+  struct Row { const CaseResult* r; std::string kind; double error = NAN, lateral = NAN; };
+  std::vector<Row> rows;
+  const CaseResult *ref_cells = nullptr, *ref_disks = nullptr;
+  for (const auto& [name, r] : res.cases) {
+    if (r.spec.role != "convergence") continue;
+    const std::string kind = r.spec.disks ? "disks" : r.spec.coupling;
+    rows.push_back({&r, kind});
+    if (!r.failure.empty() || r.spec.h != 0.3125e-6) continue;
+    if (kind == "explicit" && (!ref_cells || r.spec.dt < ref_cells->spec.dt)) ref_cells = &r;
+    if (kind == "disks" && (!ref_disks || r.spec.dt < ref_disks->spec.dt)) ref_disks = &r;
+  }
+  std::ofstream csv(fs::path(p.out_dir) / "convergence.csv");
+  csv << "kind,h_um,dt_s,steps,wall_seconds,error_um,lateral_error_um,failure\n";
+  for (Row& row : rows) {
+    const CaseResult* ref = row.kind == "disks" ? ref_disks : ref_cells;
+    if (ref && row.r->failure.empty()) {
+      double s = 0, sy = 0;
+      for (int b = 0; b < 4; ++b) {
+        const double dx = periodic_gap(row.r->x.back()[b], ref->x.back()[b], 100e-6), dy = row.r->y.back()[b] - ref->y.back()[b];
+        s += dx * dx + dy * dy;
+        sy += dy * dy;
+      }
+      row.error = std::sqrt(s / 4);
+      row.lateral = std::sqrt(sy / 4);
+    }
+    csv << row.kind << "," << row.r->spec.h * 1e6 << "," << row.r->spec.dt << "," << row.r->summary.steps << "," << row.r->summary.wall_seconds
+        << "," << row.error * 1e6 << "," << row.lateral * 1e6 << "," << (row.r->failure.empty() ? "" : "stopped") << "\n";
+  }
+  std::ostringstream md;
+  md << "Error against run time (from rest to t = " << kConvTime * 1e3 << " ms; cells: the 4 k_b cells, error against the explicit run at h = "
+        "0.3125 um and the smallest Δt; disks: against their own run at h = 0.3125 um and the smallest Δt). RMS over the 4 bodies of the "
+        "centroid distance and of its x2 part; wall time of each run (one thread, cases run side by side).\n\n"
+        "| bodies, coupling | h (um) | Δt (s) | steps | wall (s) | centroid error (um) | x2 error (um) |\n|---|---|---|---|---|---|---|\n";
+  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
+    return std::tie(a.kind, b.r->spec.h, b.r->spec.dt) < std::tie(b.kind, a.r->spec.h, a.r->spec.dt);
+  });
+  for (const Row& row : rows) {
+    char line[400];
+    if (row.r->failure.empty())
+      std::snprintf(line, sizeof line, "| %s | %g | %.3g | %ld | %.1f | %.2e | %.2e |\n", row.kind.c_str(), row.r->spec.h * 1e6, row.r->spec.dt,
+                    row.r->summary.steps, row.r->summary.wall_seconds, row.error * 1e6, row.lateral * 1e6);
+    else
+      std::snprintf(line, sizeof line, "| %s | %g | %.3g | - | - | stopped: %.150s | |\n", row.kind.c_str(), row.r->spec.h * 1e6, row.r->spec.dt,
+                    row.r->failure.c_str());
+    md << line;
+  }
+  return md.str();
+}
+
+}  // namespace
+
+Results run(const Params& p) {
+  std::vector<Case> all = cases(p);
+  if (!p.only.empty()) {
+    std::erase_if(all, [&](const Case& c) { return c.name != p.only; });
+    if (all.empty()) throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/four_cells_vs_disks --list-cases lists them)");
+  }
+  fs::create_directories(p.out_dir);
+  Results res;
+  for (const Case& c : all) res.cases[c.name] = run_case(p, c);
+  if (!p.only.empty()) return res;  // a part: no comparison
+
+  // The study's rows.
+  const std::map<std::string, std::string> dist_ids = {{"kb1", "dist_kb1"}, {"kb10", "dist_kb10"}, {"kb100", "dist_kb100"},
+                                                       {"kb1000", "dist_kb1000"}, {"disks", "dist_disks"}};
+  const std::map<std::string, std::string> re_ids = {{"kb1", "re_kb1"}, {"kb10", "re_kb10"}, {"kb100", "re_kb100"},
+                                                     {"kb1000", "re_kb1000"}, {"s07", "re_s07"}};
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  char note[400];
+  for (const auto& [name, id] : dist_ids) {
+    if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases[name].failure}; continue; }
+    const CaseResult& r = res.cases.at(name);
+    std::snprintf(note, sizeof note, "over %.4g-%.4g s; 15 at t = 0", r.t.back() - kWindow, r.t.back());
+    if (!p.quick) res.measured[id] = {r.distance * 1e6, {}, note};
+  }
+  for (const auto& [name, id] : re_ids) {
+    if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases[name].failure}; continue; }
+    if (!p.quick) res.measured[id] = {res.cases.at(name).reynolds, {}, "mean over the last ms"};
+  }
+  // The claims.
+  auto circ = [&](const std::string& n) { return ok(n) ? mean_of(res.cases.at(n).circularity_end) : NAN; };
+  {
+    bool holds = true;
+    std::string s = "mean circularity at the end (1: circle; below " + std::to_string(kNonCircular).substr(0, 6) + " = visibly non-circular):";
+    for (const char* n : {"kb1", "kb10", "kb100"}) {
+      const double c = circ(n);
+      holds = holds && c < kNonCircular;
+      std::snprintf(note, sizeof note, " %s %.4f", n, c);
+      s += note;
+    }
+    if (!p.quick) res.measured["noncircular_kb"] = {{}, holds, s};
+  }
+  {
+    const double c = circ("kb1000");
+    std::snprintf(note, sizeof note, "mean circularity of the 1000 k_b cells at the end %.5f (almost circular: above %.4f); min of the 4 %.5f", c,
+                  kAlmostCircular, ok("kb1000") ? *std::min_element(res.cases.at("kb1000").circularity_end.begin(), res.cases.at("kb1000").circularity_end.end()) : NAN);
+    if (!p.quick) res.measured["circular_kb1000"] = {{}, c >= kAlmostCircular, note};
+  }
+  if (ok("kb1000") && ok("disks")) {
+    // "Behave like the disks": their distances differ by less than the distance rows' tolerance
+    // (from the ensemble spread and the Δt/h error: reference-data).
+    double tol = NAN;
+    for (const auto& row : load_reference_table(reference_table_path("four_cells_vs_disks")))
+      if (row.id == "dist_disks") tol = row.tolerance;
+    const double d = (res.cases.at("kb1000").distance - res.cases.at("disks").distance) * 1e6;
+    std::snprintf(note, sizeof note, "distance 1000 k_b - disks = %+.3f um (within the distance rows' tolerance %.3g um?); 1 k_b - disks = %+.3f um", d, tol,
+                  ok("kb1") ? (res.cases.at("kb1").distance - res.cases.at("disks").distance) * 1e6 : NAN);
+    if (!p.quick) res.measured["kb1000_like_disks"] = {{}, std::abs(d) <= tol, note};
+  }
+  if (ok("s07") && ok("kb1")) {
+    // "Much faster": over the first kEarly the s* = 0.7 cells come at least 1.5 times as far
+    // toward the centreline as the s* = 1 cells (threshold chosen before the first run).
+    const auto& a = res.cases.at("s07");
+    const auto& b = res.cases.at("kb1");
+    const double da = 15e-6 - a.distance_early, db = 15e-6 - b.distance_early;
+    std::snprintf(note, sizeof note, "approach toward the centreline in the first %.0f ms: s* = 0.7 %.2f um, s* = 1 %.2f um (ratio %.2f; claim: >= 1.5)",
+                  kEarly * 1e3, da * 1e6, db * 1e6, da / db);
+    if (!p.quick) res.measured["s07_faster"] = {{}, da >= 1.5 * db && da > 0, note};
+  }
+  {
+    bool holds = true;
+    std::string s = "mean x1-distance to the nearest body across the centreline at the end (staggered: >= 2 R0 = 5.6 um):";
+    for (const char* n : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"}) {
+      if (!ok(n)) { holds = false; continue; }
+      const double g = res.cases.at(n).stagger;
+      holds = holds && g >= 2 * kDiskRadius;
+      std::snprintf(note, sizeof note, " %s %.1f", n, g * 1e6);
+      s += note;
+    }
+    if (!p.quick) res.measured["staggered"] = {{}, holds, s + " um"};
+  }
+  res.spread_md = spread_table(p, res);
+  std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
+  if (p.convergence && !p.quick) {
+    res.convergence_md = convergence_table(p, res);
+    std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_md;
+  }
+  // Every case in one table (cases.csv) and for the report.
+  {
+    std::ofstream f(fs::path(p.out_dir) / "cases.csv");
+    f << "case,role,bodies,swelling_ratio,kb_scale,seed,h_um,dt_s,steps,wall_seconds,distance_um,reynolds,distance_early_um,stagger_um,"
+         "circularity_mean,failure\n";
+    for (const auto& [name, r] : res.cases) {
+      const Scene sc = case_scene(r.spec, p.quick);
+      f << name << "," << r.spec.role << "," << (r.spec.disks ? "disks" : "cells") << "," << r.spec.swelling_ratio << "," << r.spec.kb_scale << ","
+        << r.spec.seed << "," << sc.mesh_size * 1e6 << "," << sc.dt << "," << r.summary.steps << "," << r.summary.wall_seconds << ","
+        << r.distance * 1e6 << "," << r.reynolds << "," << r.distance_early * 1e6 << "," << r.stagger * 1e6 << ","
+        << (r.spec.disks ? NAN : mean_of(r.circularity_end)) << "," << (r.failure.empty() ? "" : "stopped") << "\n";
+    }
+  }
+  if (p.quick)
+    for (const auto& [name, r] : res.cases) {
+      if (!r.failure.empty()) continue;
+      const std::string what = " (" + case_label(r.spec) + (r.spec.seed ? ", seed " + std::to_string(r.spec.seed) : "") + "), last ms of 5 ms";
+      res.quick_record["dist_" + name] = {"mean distance from the centreline" + what, "um", r.distance * 1e6};
+      res.quick_record["re_" + name] = {"Reynolds number" + what, "", r.reynolds};
+      if (!r.spec.disks) res.quick_record["circ_" + name] = {"mean circularity at the end" + what, "", mean_of(r.circularity_end)};
+      res.quick_record["x0_" + name] = {"body 0 centroid x1 at the end" + what, "um", r.x.back()[0] * 1e6};
+    }
+  return res;
+}
+
+}  // namespace rbc::four_cells_vs_disks

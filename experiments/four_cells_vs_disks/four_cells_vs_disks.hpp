@@ -1,0 +1,120 @@
+#pragma once
+// Experiment four_cells_vs_disks — four cells of increasing bending stiffness against four rigid
+// disks (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Sec. 4.2, Figs. 6-8; SPEC section 5.2).
+//
+// Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) four s* = 1 cells released
+// at (25, 10), (25, 40), (65, 10), (65, 40) um move toward the centreline and, after 200 ms, sit
+// at a mean distance from it of 9.22, 9.38, 11.10, 12.23 um for k_b, 10 k_b, 100 k_b, 1000 k_b;
+// four neutrally buoyant rigid disks of the cell's radius (2.8 um) at the same places stay at
+// 12.73 um: the stiffest cells behave like the disks. Softer cells are visibly non-circular at the
+// end, the 1000 k_b ones almost circular; four s* = 0.7 cells move much faster toward the
+// centreline; cells and disks end staggered, not side by side. Re with the cells 2.710, 2.705,
+// 2.685, 2.673 (s* = 0.7: 2.760).
+//
+// Method: the cells by the semi-implicit coupling (lib/immersed_boundary), the disks by the
+// distributed Lagrange multiplier of step 4 (lib/fictitious_domain/rigid_disks.hpp,
+// paper/method/06_rigid_disks.md). Scene: four_cells_vs_disks.toml (channel, time, output) plus
+// each case's bodies, added here.
+//
+// Definitions (SPEC section 6, and ours where the study is silent):
+//   distance  mean over the four bodies of |x2 − H/2| of the centroid, averaged over the samples
+//             (every 0.1 ms) of the last millisecond;
+//   Re        ρ U H / μ with U the mean velocity over the channel's section, same window;
+//   circularity  (4πA/P²) / (π/(N tan(π/N))): the reduced area of the membrane polygon over that
+//             of the regular N-gon, so that a circle of N nodes reads 1 (A, P from series.csv);
+//             an ellipse of aspect ratio 1.1 reads 0.9955 and of 1.05 0.9988 (the thresholds of
+//             the two shape claims, chosen before the first full run);
+//   staggered  for each body, the x1-distance (periodic) to the nearest body on the other side of
+//             the centreline, averaged; "staggered" when it is at least one cell diameter 2 R0.
+//
+// Cases (--list-cases; run one with --only NAME, collect with --check --reuse):
+//   kb1 kb10 kb100 kb1000 s07 disks           the study's runs (k_b scales, s* = 0.7, disks)
+//   kb1_seed1..3, disks_seed1..3              the ensemble: every body's centre moved by a
+//                                             uniform amount in [-δ, δ]² (δ = kPerturbation) drawn
+//                                             from a seeded Mersenne twister (reproducible)
+//   kb1_dt3us, disks_dt3us, kb1_h0.625um, disks_h0.625um   Δt halved and h doubled (the error)
+//   conv_*                                    error against run time on a 1 ms horizon
+//
+// Run:  build/bin/four_cells_vs_disks --check            (every case, one after the other)
+//       build/bin/four_cells_vs_disks --list-cases | parallel -j2 build/bin/four_cells_vs_disks --only {} --threads 1
+//       build/bin/four_cells_vs_disks --check --reuse    (the table from the finished cases)
+//       build/bin/four_cells_vs_disks --quick --check    (h = 0.625 um, 5 ms)
+#include <array>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "reference/reference_table.hpp"
+#include "reference/regression_record.hpp"
+#include "scene/run_scene.hpp"
+
+namespace rbc::four_cells_vs_disks {
+
+// The study's places of the four bodies (m) and the disks' radius (the cell's R0), m.
+inline const std::array<std::array<double, 2>, 4> kPlaces = {{{25e-6, 10e-6}, {25e-6, 40e-6}, {65e-6, 10e-6}, {65e-6, 40e-6}}};
+inline constexpr double kDiskRadius = 2.8e-6;
+// The ensemble's perturbation, m: below a mesh cell (0.3125 um), far below the bodies' size.
+inline constexpr double kPerturbation = 0.25e-6;
+// The rows' window: the last millisecond; the s* = 0.7 claim compares the approach to the
+// centreline over the first kEarly seconds.
+inline constexpr double kWindow = 1e-3;
+inline constexpr double kEarly = 0.05;
+// The shape claims' thresholds on the circularity (see above).
+inline constexpr double kNonCircular = 0.9955;  // below: visibly non-circular (ellipse 1.1)
+inline constexpr double kAlmostCircular = 0.9988;  // above: almost circular (ellipse 1.05)
+// Quick case: h = 0.625 um, 5 ms.
+inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 5e-3;
+// Error against run time: from rest to kConvTime.
+inline constexpr double kConvTime = 1e-3;
+
+struct Case {
+  std::string name;
+  std::string role;            // "study", "ensemble", "evidence", "convergence"
+  bool disks = false;          // four disks, or four cells
+  double swelling_ratio = 1.0, kb_scale = 1.0;
+  unsigned seed = 0;           // 0: the study's places
+  double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's
+  std::string coupling;        // empty: the scene file's
+};
+
+struct Params {
+  std::string out_dir = "results/four_cells_vs_disks";
+  bool quick = false;
+  int threads = 0;
+  bool progress = true;
+  bool resume = false;   // a case whose folder holds a checkpoint continues from it
+  bool reuse = false;    // a case whose folder holds a finished run of the same scene is read
+  std::string only;      // run this case only (exact name), no comparison
+  std::vector<unsigned> seeds = {1, 2, 3};
+  bool evidence = true;     // the Δt-halved and h-doubled full runs
+  bool convergence = true;  // the 1 ms error-against-run-time study
+};
+
+// The cases of a run with these parameters, the longest first (GNU parallel starts them in
+// this order).
+std::vector<Case> cases(const Params& p);
+// The case's scene (the file plus its bodies and overrides).
+Scene case_scene(const Case& c, bool quick);
+
+struct CaseResult {
+  Case spec;
+  RunSummary summary;
+  std::string failure;               // why the run stopped (empty: it reached its end)
+  std::vector<double> t;             // s, the samples
+  std::vector<std::array<double, 4>> x, y;  // the bodies' centroids, m
+  std::array<double, 4> circularity_end{};  // cells only
+  double distance = 0, reynolds = 0;        // over the last kWindow
+  double distance_early = 0;                // at kEarly (or the end if shorter)
+  double stagger = 0;                       // m, at the end
+};
+
+struct Results {
+  std::map<std::string, CaseResult> cases;
+  std::map<std::string, Measured> measured;       // ids of reference-data/four_cells_vs_disks.csv
+  std::map<std::string, Observed> quick_record;
+  std::string spread_md, convergence_md;          // the tolerance evidence and the work-precision table
+};
+
+Results run(const Params& p);
+
+}  // namespace rbc::four_cells_vs_disks

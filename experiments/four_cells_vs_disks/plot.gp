@@ -1,0 +1,84 @@
+# Figures of the four_cells_vs_disks experiment (Figs. 6-8 of DOI 10.1002/fld.2455, redrawn from our runs).
+#   gnuplot -e "dir='results/four_cells_vs_disks'; figdir='paper/report/figures'" experiments/four_cells_vs_disks/plot.gp
+if (!exists("dir")) dir = 'results/four_cells_vs_disks'
+if (!exists("figdir")) figdir = dir
+L = 100.0; H = 50.0
+wrap(x) = x - L*floor(x/L)
+cases = "kb1 kb10 kb100 kb1000 s07 disks"
+label(c) = c eq 'kb1' ? 's* = 1, k_b' : c eq 'kb10' ? 's* = 1, 10 k_b' : c eq 'kb100' ? 's* = 1, 100 k_b' : \
+           c eq 'kb1000' ? 's* = 1, 1000 k_b' : c eq 's07' ? 's* = 0.7, k_b' : 'rigid disks, r = 2.8 um'
+last_time(c) = system(sprintf("tail -1 %s/heights_%s.dat | awk '{print $1}'", dir, c))
+
+# Figs. 6 and 7 (right): the membranes and the disks at the end of each run.
+set terminal pngcairo size 1200, 900 font ',10'
+set output figdir.'/four_cells_vs_disks_membranes.png'
+set multiplot layout 3,2 title 'Cells and disks at the end of the run (membranes: x_1 modulo L)'
+set size ratio -1
+set xrange [0:L]; set yrange [0:H]
+set xlabel 'x_1 (um)'; set ylabel 'x_2 (um)'
+unset key
+set arrow 1 from 0, H/2 to L, H/2 nohead dt 2 lc rgb 'gray50'
+do for [c in cases] {
+  set title label(c).' at t = '.last_time(c).' ms'
+  if (c eq 'disks') {
+    plot dir.'/disks/disks_end.dat' using 1:2:3 with circles fs solid 0.3 lc rgb 'blue', \
+         '' using ($1 - L):2:3 with circles fs solid 0.3 lc rgb 'blue', '' using ($1 + L):2:3 with circles fs solid 0.3 lc rgb 'blue'
+  } else {
+    n = int(system(sprintf("grep -c '^# t =' %s/%s/snapshots.dat", dir, c)))
+    plot sprintf('%s/%s/snapshots.dat', dir, c) index n-1 using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.3 lc rgb 'red'
+  }
+}
+unset multiplot
+unset arrow 1
+
+# Figs. 6-8 (left): the bodies' centroid heights against time.
+set size noratio
+set terminal pngcairo size 1200, 900 font ',10'
+set output figdir.'/four_cells_vs_disks_heights.png'
+set multiplot layout 3,2 title 'Centroid heights x_2 of the four bodies (centreline 25 um)'
+set autoscale x; set yrange [0:H]
+set xlabel 't (ms)'; set ylabel 'x_2 (um)'
+do for [c in cases] {
+  set title label(c)
+  plot for [k=2:5] sprintf('%s/heights_%s.dat', dir, c) using 1:k with lines lw 1.5
+}
+unset multiplot
+
+# The mean distance from the centreline against time, every case, the perturbed starts thin, the
+# study's values at 200 ms as points.
+set terminal pngcairo size 1000, 600 font ',11'
+set output figdir.'/four_cells_vs_disks_distance.png'
+set title 'Mean distance of the four bodies from the centreline (perturbed starts: thin dashed)'
+set xlabel 't (ms)'; set ylabel 'mean |x_2 - H/2| (um)'
+set autoscale y
+set key top right inside
+long = real(last_time('kb1')) > 100  # the study's points only beside a full run
+ens = system(sprintf("cd %s && ls heights_*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
+plot for [i=1:words(cases)] sprintf('%s/heights_%s.dat', dir, word(cases, i)) using 1:6 with lines lw 2 lc i title label(word(cases, i)), \
+     for [f in ens] dir.'/'.f using 1:6 with lines lw 0.7 dt 2 lc (strstrt(f, 'disks') ? 6 : 1) notitle, \
+     '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study, 200 ms (k_b ... 1000 k_b, disks)'
+200 9.22
+200 9.38
+200 11.10
+200 12.23
+200 12.73
+e
+
+# Error against run time (work-precision), full runs only: one line per bodies/coupling and h.
+conv = dir.'/convergence.csv'
+if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+  set terminal pngcairo size 800, 560 font ',11'
+  set output figdir.'/four_cells_vs_disks_work_precision.png'
+  set datafile separator ','
+  set autoscale
+  set logscale xy
+  set format y '10^{%L}'
+  set title 'RMS centroid error at 1 ms against wall time (four_cells_vs_disks)'
+  set xlabel 'wall time of the run (s)'
+  set ylabel 'RMS centroid error (um)'
+  set key bottom left inside
+  sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
+  plot for [h in "0.625 0.3125"] sel("semi-implicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("explicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("disks", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
+}

@@ -1,0 +1,116 @@
+// The four_cells_vs_disks experiment's quick case (5 ms, h = 0.625 um): its numbers against the
+// committed regression record, the scenes it builds, and its cases run through GNU parallel.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+
+#include "four_cells_vs_disks/four_cells_vs_disks.hpp"
+
+namespace rbc {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace four_cells_vs_disks;
+
+TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
+  Params p;
+  const auto all = cases(p);
+  int study = 0;
+  for (const Case& c : all) {
+    const Scene s = case_scene(c, false);
+    EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
+    EXPECT_TRUE(s.cells.empty() || s.disks.empty()) << c.name;  // a scene builds only what it uses
+    EXPECT_EQ(s.projection, "study") << c.name;                  // disks need the study's form
+    if (c.role != "study") continue;
+    ++study;
+    EXPECT_EQ(s.mesh_size, 0.3125e-6);
+    EXPECT_EQ(s.end, 0.2);
+    for (std::size_t k = 0; k < 4; ++k) {  // the study's places, exactly
+      const Eigen::Vector2d at = c.disks ? s.disks[k].center : s.cells[k].center;
+      EXPECT_EQ(at.x(), kPlaces[k][0]);
+      EXPECT_EQ(at.y(), kPlaces[k][1]);
+    }
+  }
+  EXPECT_EQ(study, 6);
+  // A perturbed start moves every centre, by at most kPerturbation in each direction.
+  Case c;
+  c.name = "kb1_seed1";
+  c.seed = 1;
+  const Scene s = case_scene(c, false);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double dx = s.cells[k].center.x() - kPlaces[k][0], dy = s.cells[k].center.y() - kPlaces[k][1];
+    EXPECT_GT(std::abs(dx) + std::abs(dy), 0.0);
+    EXPECT_LE(std::abs(dx), kPerturbation);
+    EXPECT_LE(std::abs(dy), kPerturbation);
+  }
+}
+
+TEST(FourCellsVsDisksExperiment, QuickRunMatchesItsRegressionRecord) {
+  Params p;
+  p.quick = true;
+  p.progress = false;
+  p.threads = 1;
+  p.out_dir = (fs::temp_directory_path() / "rbcflow_four_cells_quick").string();
+  fs::remove_all(p.out_dir);
+  const auto r = run(p);
+  for (const auto& [name, c] : r.cases) EXPECT_TRUE(c.failure.empty()) << name << ": " << c.failure;
+  // In 5 ms every case has started toward the centreline, the s* = 0.7 cells the most.
+  for (const auto& [name, c] : r.cases) {
+    double start = 0;
+    for (double y : c.y.front()) start += std::abs(y - 25e-6) / 4;
+    EXPECT_LT(c.distance, start) << name;
+  }
+  EXPECT_LT(r.cases.at("s07").distance, r.cases.at("kb1").distance);
+  // The stiffest cells stay rounder than the softest.
+  auto mean4 = [](const std::array<double, 4>& a) { return (a[0] + a[1] + a[2] + a[3]) / 4; };
+  EXPECT_GT(mean4(r.cases.at("kb1000").circularity_end), mean4(r.cases.at("kb1").circularity_end));
+  EXPECT_EQ(run_regression_check("four_cells_vs_disks", r.quick_record, p.out_dir, std::cout), 0);
+  fs::remove_all(p.out_dir);
+}
+
+std::string without_wall_time(const fs::path& csv) {  // cases.csv minus its steps and wall columns
+  std::ifstream in(csv);
+  std::ostringstream out;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream ss(line);
+    std::string field;
+    for (int k = 0; std::getline(ss, field, ','); ++k)
+      if (k != 9) out << field << ",";
+    out << "\n";
+  }
+  return out.str();
+}
+
+// The sweep path of make reproduce and the README: the cases through GNU parallel (--only, one
+// thread each), then --check --reuse, give the table of one process running every case.
+TEST(FourCellsVsDisksExperiment, CasesThroughGnuParallelGiveTheTableOfOneProcess) {
+  if (std::system("parallel --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "GNU parallel not installed (make deps)";
+  const fs::path one = fs::temp_directory_path() / "rbcflow_four_cells_one", par = fs::temp_directory_path() / "rbcflow_four_cells_par";
+  fs::remove_all(one);
+  fs::remove_all(par);
+  const std::string bin = std::string(RBCFLOW_BIN_DIR) + "/four_cells_vs_disks";
+  ASSERT_EQ(std::system((bin + " --quick --check --threads 1 --out " + one.string() + " > " + one.string() + ".log 2>&1").c_str()), 0);
+  const std::string sweep = bin + " --quick --list-cases | parallel --will-cite -j 2 " + bin + " --quick --only {} --threads 1 --out " +
+                            par.string() + " '>' /dev/null '2>&1'";
+  ASSERT_EQ(std::system(sweep.c_str()), 0);
+  ASSERT_EQ(std::system((bin + " --quick --check --reuse --out " + par.string() + " > " + par.string() + ".log 2>&1").c_str()), 0);
+  EXPECT_EQ(without_wall_time(one / "cases.csv"), without_wall_time(par / "cases.csv"));
+  EXPECT_FALSE(without_wall_time(one / "cases.csv").empty());
+  // The figures are drawn from the collected folder.
+  const std::string plot = "gnuplot -e \"dir='" + par.string() + "'; figdir='" + par.string() + "'\" " + RBCFLOW_SOURCE_DIR +
+                           "/experiments/four_cells_vs_disks/plot.gp > " + par.string() + ".plot.log 2>&1";
+  EXPECT_EQ(std::system(plot.c_str()), 0);
+  for (const char* fig : {"four_cells_vs_disks_membranes.png", "four_cells_vs_disks_heights.png", "four_cells_vs_disks_distance.png"})
+    EXPECT_TRUE(fs::exists(par / fig)) << fig;
+  fs::remove_all(one);
+  fs::remove_all(par);
+}
+
+}  // namespace
+}  // namespace rbc
