@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "four_cells_vs_disks/four_cells_vs_disks.hpp"
 #include "scene/simulation.hpp"
 
 namespace rbc::stability_map {
@@ -187,6 +188,19 @@ std::vector<Extreme> extremes(const Params& p) {
     s.membrane_constants.kb *= 1000;
     s.membrane_constants.kl *= 100;
     out.push_back(run_extreme("k_l x100, k_b x1000", "the stiffest corner of the map", s, p));
+  }
+  {
+    // The four_cells_vs_disks experiment's stiffest case (issue 16) at its own scheme: four s* = 1
+    // cells with 1000 k_b each in the wide channel, h = 0.3125 um, semi-implicit, Δt = 6e-6 s, Q = 4
+    // (the scene of four_cells_vs_disks.toml, so the map follows the experiment's choices).
+    four_cells_vs_disks::Case c;
+    c.name = "kb1000";
+    c.kb_scale = 1000;
+    Scene s = four_cells_vs_disks::case_scene(c, false);
+    s.source = "stability_map four_cells_vs_disks kb1000";
+    s.end = std::ceil(end / s.dt) * s.dt;
+    s.snapshots.clear();
+    out.push_back(run_extreme("4 cells 1000 k_b, wide", "four_cells_vs_disks' 1000 k_b case at its dt (6 us), 100 x 50 um, h = 0.3125 um", s, p));
   }
   return out;
 }
