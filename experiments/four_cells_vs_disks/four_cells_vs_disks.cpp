@@ -14,6 +14,8 @@
 #include "fluid/channel_flow.hpp"
 #include "io/csv.hpp"
 
+#include <nlohmann/json.hpp>
+
 namespace rbc::four_cells_vs_disks {
 
 namespace fs = std::filesystem;
@@ -201,6 +203,10 @@ CaseResult run_case(const Params& p, const Case& c) {
     if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
     return r;
   }
+  if (c.disks && fs::exists(out / "summary.json")) {
+    std::ifstream js(out / "summary.json");
+    r.contact_steps = nlohmann::json::parse(js).value("disk_contact_steps", 0L);
+  }
   r.t = csv_column(series, "t");
   const std::size_t n = r.t.size();
   r.x.assign(n, {});
@@ -381,6 +387,8 @@ Results run(const Params& p) {
     if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases[name].failure}; continue; }
     const CaseResult& r = res.cases.at(name);
     std::snprintf(note, sizeof note, "over %.4g-%.4g s; 15 at t = 0", r.t.back() - kWindow, r.t.back());
+    if (r.spec.disks) std::snprintf(note, sizeof note, "over %.4g-%.4g s; 15 at t = 0; contact force acted in %ld of %ld steps", r.t.back() - kWindow,
+                                    r.t.back(), r.contact_steps, r.summary.steps);
     if (!p.quick) res.measured[id] = {r.distance * 1e6, {}, note};
   }
   for (const auto& [name, id] : re_ids) {
@@ -449,13 +457,13 @@ Results run(const Params& p) {
   {
     std::ofstream f(fs::path(p.out_dir) / "cases.csv");
     f << "case,role,bodies,swelling_ratio,kb_scale,seed,h_um,dt_s,steps,wall_seconds,distance_um,reynolds,distance_early_um,stagger_um,"
-         "circularity_mean,failure\n";
+         "circularity_mean,contact_steps,failure\n";
     for (const auto& [name, r] : res.cases) {
       const Scene sc = case_scene(r.spec, p.quick);
       f << name << "," << r.spec.role << "," << (r.spec.disks ? "disks" : "cells") << "," << r.spec.swelling_ratio << "," << r.spec.kb_scale << ","
         << r.spec.seed << "," << sc.mesh_size * 1e6 << "," << sc.dt << "," << r.summary.steps << "," << r.summary.wall_seconds << ","
         << r.distance * 1e6 << "," << r.reynolds << "," << r.distance_early * 1e6 << "," << r.stagger * 1e6 << ","
-        << (r.spec.disks ? NAN : mean_of(r.circularity_end)) << "," << (r.failure.empty() ? "" : "stopped") << "\n";
+        << (r.spec.disks ? NAN : mean_of(r.circularity_end)) << "," << r.contact_steps << "," << (r.failure.empty() ? "" : "stopped") << "\n";
     }
   }
   if (p.quick)

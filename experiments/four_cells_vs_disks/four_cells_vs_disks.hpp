@@ -106,6 +106,7 @@ struct CaseResult {
   double distance = 0, reynolds = 0;        // over the last kWindow
   double distance_early = 0;                // at kEarly (or the end if shorter)
   double stagger = 0;                       // m, at the end
+  long contact_steps = 0;                   // disks: steps in which the contact force acted
 };
 
 struct Results {
