@@ -81,6 +81,11 @@ for exp in "$@"; do
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
     echo "Run: \`$BUILD/bin/$exp --check $quick_flag $reuse_flag\` — wall time ${wall}, exit code $rc."
+    if [ "${REUSE:-0}" = "1" ]; then
+      # Provenance of runs read back: when they finished (their summary.json files' times, UTC).
+      span=$(find "$dir" -name summary.json -printf '%TY-%Tm-%Td %TH:%TM\n' 2>/dev/null | sort | sed -n '1p;$p' | tr '\n' ' ')
+      [ -n "$span" ] && echo "Runs on disk finished between (UTC, first and last): $span."
+    fi
     echo
     [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
     echo

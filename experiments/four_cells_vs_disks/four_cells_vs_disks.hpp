@@ -25,7 +25,8 @@
 //             an ellipse of aspect ratio 1.1 reads 0.9955 and of 1.05 0.9988 (the thresholds of
 //             the two shape claims, chosen before the first full run);
 //   staggered  for each body, the x1-distance (periodic) to the nearest body on the other side of
-//             the centreline, averaged; "staggered" when it is at least one cell diameter 2 R0.
+//             the centreline, averaged; "staggered" when it is at least one cell diameter 2 R0 (judged
+//             for the s* = 1 cells and the disks, Figs. 6-7).
 //
 // Cases (--list-cases; run one with --only NAME, collect with --check --reuse):
 //   kb1 kb10 kb100 kb1000 s07 disks           the study's runs (k_b scales, s* = 0.7, disks)
