@@ -46,12 +46,12 @@ unset multiplot
 
 # The mean distance from the centreline against time, every case, the perturbed starts thin, the
 # study's values at 200 ms as points.
-set terminal pngcairo size 1000, 600 font ',11'
+set terminal pngcairo size 1000, 680 font ',11'
 set output figdir.'/four_cells_vs_disks_distance.png'
 set title 'Mean distance of the four bodies from the centreline (perturbed starts: thin dashed)'
 set xlabel 't (ms)'; set ylabel 'mean |x_2 - H/2| (um)'
 set autoscale y
-set key top right inside
+set key outside bottom center horizontal maxcols 3
 long = real(last_time('kb1')) > 100  # the study's points only beside a full run
 ens = system(sprintf("cd %s && ls heights_*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
 plot for [i=1:words(cases)] sprintf('%s/heights_%s.dat', dir, word(cases, i)) using 1:6 with lines lw 2 lc i title label(word(cases, i)), \
@@ -73,12 +73,12 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set autoscale
   set logscale xy
   set format y '10^{%L}'
-  set title 'RMS centroid error at 1 ms against wall time (four_cells_vs_disks)'
+  set title 'RMS error of the centroid heights x_2 at 1.2 ms against wall time (four_cells_vs_disks)'
   set xlabel 'wall time of the run (s)'
-  set ylabel 'RMS centroid error (um)'
+  set ylabel 'RMS |x_2 - x_2^{finest}| (um)'
   set key bottom left inside
   sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
-  plot for [h in "0.625 0.3125"] sel("semi-implicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
-       for [h in "0.625 0.3125"] sel("explicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
-       for [h in "0.625 0.3125"] sel("disks", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
+  plot for [h in "0.625 0.3125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("disks", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
 }
