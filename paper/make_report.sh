@@ -65,8 +65,9 @@ for exp in "$@"; do
     "$BUILD/bin/$exp" --list-cases $quick_flag | parallel --will-cite -j "$(nproc)" --joblog "$dir/joblog" \
       "$BUILD/bin/$exp" --out "$dir" $quick_flag $reuse_flag --only {} --threads 1 ">" "$dir/{}.log" "2>&1" \
       || echo "rbcflow: some cases of $exp stopped (their rows say why; logs in $dir/)" >&2
+    [ -n "$reuse_flag" ] && wall_note=" (with --reuse: its cases finished on disk are read back through GNU parallel, not run again; each case's own run time is in the tables below)" \
+      || wall_note=" (its cases run with GNU parallel on $(nproc) cores, one thread each; each case's wall time is in the tables below)"
     reuse_flag="--reuse"
-    wall_note=" (its cases run with GNU parallel on $(nproc) cores, one thread each; each case's wall time is in the tables below)"
   fi
   echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
   "$BUILD/bin/$exp" --out "$dir" --check $quick_flag $reuse_flag > "$dir.log" 2>&1

@@ -73,7 +73,7 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set autoscale
   set logscale xy
   set format y '10^{%L}'
-  set title 'RMS error of the centroid heights x_2 at 1.2 ms against wall time (four_cells_vs_disks)'
+  set title 'RMS error of the centroid heights x_2 at 1.2 ms against wall time (four cells against four disks)'
   set xlabel 'wall time of the run (s)'
   set ylabel 'RMS |x_2 - x_2^{finest}| (um)'
   set key bottom left inside
