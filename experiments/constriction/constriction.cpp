@@ -53,10 +53,7 @@ void convergence_study(const Params& p, Results& res) {
       std::snprintf(num, sizeof num, "output.every=%.17g", kConvTime / 10);
       o.push_back(num);
       // Q from the straight channel's bound at this h (the scene refuses a Δt above Q times it).
-      Scene q1 = load_scene_file(toml, {o[0]});
-      q1.advection_substeps = 1;
-      const int substeps = std::max(1, int(std::ceil(dt / advective_dt_bound(q1.flow_params()) * (1 - 1e-12))));
-      o.push_back("time.advection_substeps=" + std::to_string(substeps));
+      o.push_back("time.advection_substeps=" + std::to_string(load_scene_file(toml, {o[0]}).advection_substeps_for(dt)));
       Scene sc = load_scene_file(toml, o);
       char name[96], src[160];
       std::snprintf(name, sizeof name, "%s_h%g_dt%g", j.coupling.c_str(), j.h * 1e6, dt);

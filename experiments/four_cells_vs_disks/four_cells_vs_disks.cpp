@@ -11,7 +11,6 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "fluid/channel_flow.hpp"
 #include "io/csv.hpp"
 
 #include <nlohmann/json.hpp>
@@ -99,9 +98,7 @@ Scene case_scene(const Case& c, bool quick) {
   if (c.dt > 0) {
     // Q from the cell-free channel's advective bound at this h (the scene refuses a Δt above Q
     // times it; the bound does not depend on Δt, so it is read before Δt is changed).
-    Scene q1 = parse_scene(text.str(), kSceneFile, o);
-    q1.advection_substeps = 1;
-    const int q = std::max(1, int(std::ceil(c.dt / advective_dt_bound(q1.flow_params()) * (1 - 1e-12))));
+    const int q = parse_scene(text.str(), kSceneFile, o).advection_substeps_for(c.dt);
     o.push_back("time.dt=" + num(c.dt));
     o.push_back("time.advection_substeps=" + std::to_string(q));
   }
@@ -192,6 +189,9 @@ CaseResult run_case(const Params& p, const Case& c) {
   CaseResult r;
   r.spec = c;
   const Scene scene = case_scene(c, p.quick);
+  r.h = scene.mesh_size;
+  r.dt = scene.dt;
+  r.length = scene.length;
   const fs::path out = fs::path(p.out_dir) / c.name;
   // A case that stopped leaves failure.txt (its scene's source and Δt, then why): --reuse reads it
   // back instead of running the case again (GNU parallel's runs, then --check --reuse).
@@ -361,7 +361,7 @@ std::string convergence_table(const Params& p, const Results& res) {
     if (ref && row.r->failure.empty()) {
       double s = 0, sy = 0;
       for (int b = 0; b < 4; ++b) {
-        const double dx = periodic_gap(row.r->x.back()[b], ref->x.back()[b], 100e-6), dy = row.r->y.back()[b] - ref->y.back()[b];
+        const double dx = periodic_gap(row.r->x.back()[b], ref->x.back()[b], ref->length), dy = row.r->y.back()[b] - ref->y.back()[b];
         s += dx * dx + dy * dy;
         sy += dy * dy;
       }
@@ -491,9 +491,8 @@ Results run(const Params& p) {
     f << "case,role,bodies,swelling_ratio,kb_scale,seed,h_um,dt_s,steps,wall_seconds,distance_um,reynolds,distance_early_um,stagger_um,"
          "circularity_mean,contact_steps,failure\n";
     for (const auto& [name, r] : res.cases) {
-      const Scene sc = case_scene(r.spec, p.quick);
       f << name << "," << r.spec.role << "," << (r.spec.disks ? "disks" : "cells") << "," << r.spec.swelling_ratio << "," << r.spec.kb_scale << ","
-        << r.spec.seed << "," << sc.mesh_size * 1e6 << "," << sc.dt << "," << r.summary.steps << "," << r.summary.wall_seconds << ","
+        << r.spec.seed << "," << r.h * 1e6 << "," << r.dt << "," << r.summary.steps << "," << r.summary.wall_seconds << ","
         << r.distance * 1e6 << "," << r.reynolds << "," << r.distance_early * 1e6 << "," << r.stagger * 1e6 << ","
         << (r.spec.disks ? NAN : mean_of(r.circularity_end)) << "," << r.contact_steps << "," << (r.failure.empty() ? "" : "stopped") << "\n";
     }

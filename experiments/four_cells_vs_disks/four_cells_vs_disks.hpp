@@ -100,6 +100,7 @@ Scene case_scene(const Case& c, bool quick);
 
 struct CaseResult {
   Case spec;
+  double h = 0, dt = 0, length = 0;     // the scene's mesh size, time step, channel length (m, s, m)
   RunSummary summary;
   std::string failure;               // why the run stopped (empty: it reached its end)
   std::vector<double> t;             // s, the samples

@@ -305,9 +305,7 @@ Results run(const Params& p) {
           sc.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
           sc.membrane_constants = p.membrane;
           sc.coupling = coupling;
-          Scene q1 = sc;
-          q1.advection_substeps = 1;
-          sc.advection_substeps = std::max(1, int(std::ceil(dt / advective_dt_bound(q1.flow_params()) * (1 - 1e-12))));
+          sc.advection_substeps = sc.advection_substeps_for(dt);
           char src[160];
           std::snprintf(src, sizeof src, "single_cell_migration convergence %s h=%g um dt=%g s", coupling.c_str(), h * 1e6, dt);
           sc.source = src;

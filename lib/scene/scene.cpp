@@ -346,6 +346,12 @@ double Scene::driving_force() const {
   return body_force ? *body_force : body_force_from_reynolds(*reynolds0, fluid, height);
 }
 
+int Scene::advection_substeps_for(double dt) const {
+  ChannelFlowParams p = flow_params();
+  p.advection_substeps = 1;
+  return std::max(1, int(std::ceil(dt / advective_dt_bound(p) * (1 - 1e-12))));
+}
+
 ChannelFlowParams Scene::flow_params() const {
   ChannelFlowParams p;
   p.fluid = fluid;

@@ -116,6 +116,9 @@ struct Scene {
 
   double driving_force() const;  // f_p, N/m³, from whichever was given
   ChannelFlowParams flow_params() const;
+  // The smallest Q (wave-like substeps) whose advective bound Q * 0.5 h / U_max covers dt on this
+  // scene's channel (the bound depends on h and the flow, not on dt or Q).
+  int advection_substeps_for(double dt) const;
   // s between samples; by default 100 samples, at most one per step.
   double sample_interval() const { return output_every > 0 ? output_every : std::max(end / 100, dt); }
 };
