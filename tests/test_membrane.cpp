@@ -7,6 +7,7 @@
 
 #include "diagnostics/cell_diagnostics.hpp"
 #include "membrane/cell.hpp"
+#include "membrane/membrane_crossing.hpp"
 #include "membrane/shape_preparation.hpp"
 #include "scene/simulation.hpp"
 
@@ -228,6 +229,82 @@ TEST(CellStiffness, KbScaleMultipliesOnlyTheBendingEnergyAndAStifferCellDeformsL
   }
   std::printf("[ measured ] circularity after 0.5 ms: k_b %.6f, 1000 k_b %.6f\n", circ[0], circ[1]);
   EXPECT_GT(circ[1], circ[0]);
+}
+
+// A circle of N nodes, radius R, centre c (m).
+Points circle_at(Eigen::Vector2d c, double R, int N = 76) {
+  Points r(N);
+  for (int i = 0; i < N; ++i) {
+    const double a = 2 * std::numbers::pi * (i + 0.5) / N;
+    r[i] = c + R * Eigen::Vector2d(std::cos(a), std::sin(a));
+  }
+  return r;
+}
+
+TEST(MembraneCrossing, OverlappingMembranesCrossAndSeparateOnesDoNot) {
+  const double R = 2.8e-6, L = 20e-6;
+  // Centres 2R − 0.1 um apart: the circles cross at two points on the perpendicular bisector.
+  const Points a = circle_at({5e-6, 5e-6}, R), b = circle_at({5e-6 + 2 * R - 0.1e-6, 5e-6}, R);
+  const auto c = find_membrane_crossing(std::vector<Points>{a, b}, L);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->cell_a, 0u);
+  EXPECT_EQ(c->cell_b, 1u);
+  EXPECT_NEAR(c->point.x(), 5e-6 + R - 0.05e-6, 0.02e-6);  // on the bisector (the chords are within 0.01 um of the arcs)
+  EXPECT_NEAR(std::abs(c->point.y() - 5e-6), std::sqrt(R * R - std::pow(R - 0.05e-6, 2)), 0.05e-6);
+  // 0.1 um apart (a third of a mesh cell): no crossing, although their boxes overlap in x2.
+  EXPECT_FALSE(find_membrane_crossing(std::vector<Points>{a, circle_at({5e-6 + 2 * R + 0.1e-6, 5e-6}, R)}, L).has_value());
+  // Boxes that overlap at a corner while the circles stay apart (diagonal neighbours).
+  EXPECT_FALSE(find_membrane_crossing(std::vector<Points>{a, circle_at({5e-6 + 1.5 * R, 5e-6 + 1.5 * R}, R)}, L).has_value());
+  // One inside the other without touching: no segment crosses (a node-inside test catches that, in scenes).
+  EXPECT_FALSE(find_membrane_crossing(std::vector<Points>{a, circle_at({5e-6, 5e-6}, 0.5 * R)}, L).has_value());
+}
+
+TEST(MembraneCrossing, IsFoundAcrossThePeriodicBoundaryAndForUnwrappedNodes) {
+  const double R = 2.8e-6, L = 20e-6;
+  // Cell 1 just right of x1 = 0, cell 2 just left of x1 = L: they meet across the boundary.
+  const std::vector<Points> m = {circle_at({10e-6, 5e-6}, R), circle_at({1e-6, 5e-6}, R), circle_at({L - 3e-6, 5.5e-6}, R)};
+  const auto c = find_membrane_crossing(m, L);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->cell_a, 1u);
+  EXPECT_EQ(c->cell_b, 2u);
+  // The same with cell 2 unwrapped by three periods (a cell that has travelled down the channel).
+  std::vector<Points> far = m;
+  for (auto& p : far[2]) p.x() += 3 * L;
+  ASSERT_TRUE(find_membrane_crossing(far, L).has_value());
+  // Not periodic (L = 0): their centres are 16 um apart and they do not cross.
+  EXPECT_FALSE(find_membrane_crossing(m, 0.0).has_value());
+}
+
+TEST(MembraneCrossing, TheHealthCheckStopsARunWhoseMembranesCross) {
+  // Two s* = 1 cells placed apart (the scene accepts them), then cell 1's nodes moved by hand to
+  // cross cell 0: check_health names the crossing; placed apart, it passes.
+  Scene s;
+  s.source = "test";
+  s.length = 20e-6;
+  s.height = 10e-6;
+  s.mesh_size = 0.25e-6;
+  s.reynolds0 = 0.5556;
+  s.dt = 5e-8;
+  s.end = 5e-8;
+  s.coupling = "explicit";  // no mobility table to build: the check is the same
+  s.cells.push_back({{5e-6, 5e-6}, 1.0, 0.0});
+  s.cells.push_back({{12e-6, 5e-6}, 1.0, 0.0});
+  {
+    Simulation apart(s);
+    EXPECT_NO_THROW(apart.check_health());
+  }
+  Simulation sim(s);
+  Points moved = sim.cells()[1].nodes;
+  for (auto& p : moved) p.x() -= 2.5e-6;  // centres 4.5 um apart, radius 2.8 um
+  sim.place_cell(1, moved);
+  try {
+    sim.check_health();
+    FAIL() << "crossing membranes passed the health check";
+  } catch (const RunFailure& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("membrane crossing: cells 0 and 1"), std::string::npos) << m;
+    EXPECT_NE(m.find("at t = 0 s"), std::string::npos) << m;
+  }
 }
 
 }  // namespace

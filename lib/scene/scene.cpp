@@ -11,6 +11,7 @@
 
 #include "immersed_boundary/step_mobility.hpp"
 #include "membrane/cell.hpp"
+#include "membrane/membrane_crossing.hpp"
 #include "membrane/shape_preparation.hpp"
 
 namespace rbc {
@@ -252,7 +253,7 @@ bool any_node_inside(const Points& outer, const Points& inner, double L) {
 }
 
 bool polygons_overlap(const Points& a, const Points& b, double L) {
-  return any_node_inside(a, b, L) || any_node_inside(b, a, L);
+  return any_node_inside(a, b, L) || any_node_inside(b, a, L) || membranes_cross(a, b, L).has_value();
 }
 
 std::string um(double metres) {

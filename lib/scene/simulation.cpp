@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "diagnostics/flow_diagnostics.hpp"
+#include "membrane/membrane_crossing.hpp"
 
 namespace rbc {
 
@@ -153,6 +154,15 @@ void Simulation::check_health() {
       throw RunFailure(m.str());
     }
   }
+  // Two membranes crossing each other (membrane_crossing.hpp): the cells interpenetrate.
+  if (cells_.size() > 1)
+    if (const auto c = find_membrane_crossing(cells_, scene_.length)) {
+      std::ostringstream m;
+      m << "membrane crossing: cells " << c->cell_a << " and " << c->cell_b << " cross each other (segment " << c->segment_a << " of cell "
+        << c->cell_a << " and segment " << c->segment_b << " of cell " << c->cell_b << " at (" << c->point.x() * 1e6 << ", "
+        << c->point.y() * 1e6 << ") um)" << when << "; lower [time] dt";
+      throw RunFailure(m.str());
+    }
 }
 
 std::vector<Eigen::Vector2d> Simulation::contact_forces() const {

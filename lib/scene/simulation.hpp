@@ -60,7 +60,7 @@ class Simulation {
   void place_cell(std::size_t k, const Points& nodes);
   // Stops the run (RunFailure) on non-finite values, a CFL number above the stability limit,
   // a membrane strain above kMaxMembraneStrain, a membrane node outside the channel or inside an
-  // obstacle, or a fluid
+  // obstacle or a disk, two membranes crossing each other (membrane_crossing.hpp), or a fluid
   // that has been faster than kMaxSpeedRatio times the flow's peak for too long (call it after
   // every step: it adds up that time).
   void check_health();

@@ -1,0 +1,113 @@
+#include "membrane/membrane_crossing.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rbc {
+
+namespace {
+
+struct Box {
+  double x0, x1, y0, y1;
+};
+
+Box box_of(const Points& r) {
+  Box b{r[0].x(), r[0].x(), r[0].y(), r[0].y()};
+  for (const auto& p : r) {
+    b.x0 = std::min(b.x0, p.x());
+    b.x1 = std::max(b.x1, p.x());
+    b.y0 = std::min(b.y0, p.y());
+    b.y1 = std::max(b.y1, p.y());
+  }
+  return b;
+}
+
+// (q − p) × (s − p): > 0 when s is left of the directed line p → q.
+double orient(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& s) {
+  return (q.x() - p.x()) * (s.y() - p.y()) - (q.y() - p.y()) * (s.x() - p.x());
+}
+
+// The shift (a multiple of L) that brings box b nearest to box a in x1.
+double nearest_shift(const Box& a, const Box& b, double L) {
+  if (L <= 0) return 0;
+  return -L * std::round((0.5 * (b.x0 + b.x1) - 0.5 * (a.x0 + a.x1)) / L);
+}
+
+bool boxes_overlap(const Box& a, const Box& b, double shift) {
+  return a.x0 <= b.x1 + shift && b.x0 + shift <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
+}
+
+}  // namespace
+
+std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b, double L) {
+  if (a.size() < 2 || b.size() < 2) return std::nullopt;
+  const Box ba = box_of(a), bb = box_of(b);
+  const double shift = nearest_shift(ba, bb, L);
+  if (!boxes_overlap(ba, bb, shift)) return std::nullopt;
+  // Only segments that reach into the boxes' common part can cross: collect those of each polygon
+  // (b in a's frame), then test them pairwise.
+  const Box common{std::max(ba.x0, bb.x0 + shift), std::min(ba.x1, bb.x1 + shift), std::max(ba.y0, bb.y0), std::min(ba.y1, bb.y1)};
+  auto reaching = [&](const Points& r, double dx) {
+    std::vector<std::size_t> k;
+    for (std::size_t i = 0, n = r.size(); i < n; ++i) {
+      const Eigen::Vector2d& p = r[i];
+      const Eigen::Vector2d& q = r[(i + 1) % n];
+      if (std::max(p.x(), q.x()) + dx >= common.x0 && std::min(p.x(), q.x()) + dx <= common.x1 && std::max(p.y(), q.y()) >= common.y0 &&
+          std::min(p.y(), q.y()) <= common.y1)
+        k.push_back(i);
+    }
+    return k;
+  };
+  const std::vector<std::size_t> sa = reaching(a, 0.0), sb = reaching(b, shift);
+  const Eigen::Vector2d e1(shift, 0.0);
+  const std::size_t na = a.size(), nb = b.size();
+  for (std::size_t i : sa) {
+    const Eigen::Vector2d& p = a[i];
+    const Eigen::Vector2d& q = a[(i + 1) % na];
+    const double sx0 = std::min(p.x(), q.x()), sx1 = std::max(p.x(), q.x());
+    const double sy0 = std::min(p.y(), q.y()), sy1 = std::max(p.y(), q.y());
+    for (std::size_t j : sb) {
+      const Eigen::Vector2d r = b[j] + e1, s = b[(j + 1) % nb] + e1;
+      // Segment boxes first (cheap), then the orientation test: p, q on opposite sides of r → s
+      // (or on it) and r, s on opposite sides of p → q (or on it).
+      if (std::max(r.x(), s.x()) < sx0 || std::min(r.x(), s.x()) > sx1 || std::max(r.y(), s.y()) < sy0 ||
+          std::min(r.y(), s.y()) > sy1)
+        continue;
+      const double o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
+      if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0) || (o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) continue;
+      MembraneCrossing c;
+      c.segment_a = i;
+      c.segment_b = j;
+      const double den = o3 - o4;  // p + t (q − p) with t = o3 / (o3 − o4) on r → s
+      c.point = den != 0 ? Eigen::Vector2d(p + (o3 / den) * (q - p)) : p;
+      return c;
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Points>& membranes, double L) {
+  std::vector<Box> boxes;
+  boxes.reserve(membranes.size());
+  for (const auto& m : membranes) boxes.push_back(m.empty() ? Box{} : box_of(m));
+  for (std::size_t a = 0; a < membranes.size(); ++a)
+    for (std::size_t b = a + 1; b < membranes.size(); ++b) {
+      if (membranes[a].size() < 2 || membranes[b].size() < 2) continue;
+      if (!boxes_overlap(boxes[a], boxes[b], nearest_shift(boxes[a], boxes[b], L))) continue;
+      if (auto c = membranes_cross(membranes[a], membranes[b], L)) {
+        c->cell_a = a;
+        c->cell_b = b;
+        return c;
+      }
+    }
+  return std::nullopt;
+}
+
+std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Cell>& cells, double L) {
+  std::vector<Points> m;
+  m.reserve(cells.size());
+  for (const auto& c : cells) m.push_back(c.nodes);
+  return find_membrane_crossing(m, L);
+}
+
+}  // namespace rbc
