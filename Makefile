@@ -16,7 +16,7 @@ DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-
 FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
 # The experiments that exist so far, in the study's order (SPEC section 5).
-EXPERIMENTS := channel_flow single_cell_migration four_cells_vs_disks stability_map constriction
+EXPERIMENTS := channel_flow single_cell_migration four_cells_vs_disks cell_free_layer stability_map constriction
 
 .PHONY: all deps build test test-release test-sanitize reproduce bench fuzz clean
 

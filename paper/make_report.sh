@@ -109,6 +109,12 @@ for exp in "$@"; do
       cat "$dir/spread.md"
       echo
     fi
+    if [ -f "$dir/ensemble.md" ]; then
+      echo "### The ensemble of initial arrangements"
+      echo
+      cat "$dir/ensemble.md"
+      echo
+    fi
     if [ -f "$dir/convergence.md" ]; then
       echo "### Error against run time"
       echo

@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "common/case_runner.hpp"
 #include "io/csv.hpp"
 
 #include <nlohmann/json.hpp>
@@ -24,15 +25,9 @@ namespace {
 const std::string kSceneFile = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/four_cells_vs_disks/four_cells_vs_disks.toml";
 constexpr double kPi = 3.141592653589793;
 
-std::string num(double v) {
-  char b[40];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
-// A uniform number in [-1, 1) from the generator's raw 32-bit output (the same on every
-// platform, unlike std::uniform_real_distribution).
-double symmetric_unit(std::mt19937& g) { return 2.0 * (double(g()) / 4294967296.0) - 1.0; }
+using case_runner::num;
+using case_runner::symmetric_unit;
+using case_runner::window_mean;
 
 // The bodies' centres of a case: the study's places, or each moved by a uniform amount in
 // [-kPerturbation, kPerturbation]² drawn from the seed.
@@ -54,14 +49,6 @@ double periodic_gap(double a, double b, double L) {
 // (4πA/P²) over that of the regular N-gon: 1 for a circle of N nodes.
 double circularity(double area, double perimeter, int nodes) {
   return 4 * kPi * area / (perimeter * perimeter) / (kPi / (nodes * std::tan(kPi / nodes)));
-}
-
-double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from) {
-  double s = 0;
-  int n = 0;
-  for (std::size_t k = 0; k < t.size(); ++k)
-    if (t[k] >= from - 1e-12) { s += v[k]; ++n; }
-  return n ? s / n : NAN;
 }
 
 std::string case_label(const Case& c) {
@@ -132,8 +119,18 @@ std::vector<Case> cases(const Params& p) {
     // stability map's k_b x 1000 column): is their distance a Δt effect?
     Case k = cells("kb1000_dt3us", "evidence", 1.0, 1000.0);
     a.dt = b.dt = k.dt = 3e-6;
+    // The Δt sequence of the deviations (dist_kb100, kb1000_like_disks): the 100 k_b cells at
+    // 3 us, and the 1000 k_b cells and the disks at 1.5 us (is the 1000 k_b cells' Δt error
+    // first order, and where do they go as Δt -> 0 against the disks?).
+    Case k4 = cells("kb1000_dt1.5us", "evidence", 1.0, 1000.0), b4 = disks("disks_dt1.5us", "evidence");
+    Case k3 = cells("kb100_dt3us", "evidence", 1.0, 100.0);
+    k4.dt = b4.dt = 1.5e-6;
+    k3.dt = 3e-6;
+    v.push_back(k4);
     v.push_back(a);
     v.push_back(k);
+    v.push_back(k3);
+    v.push_back(b4);
     v.push_back(b);
   }
   for (double kb : {1.0, 10.0, 100.0, 1000.0}) v.push_back(cells("kb" + num(kb), "study", 1.0, kb));
@@ -193,30 +190,11 @@ CaseResult run_case(const Params& p, const Case& c) {
   r.dt = scene.dt;
   r.length = scene.length;
   const fs::path out = fs::path(p.out_dir) / c.name;
-  // A case that stopped leaves failure.txt (its scene's source and Δt, then why): --reuse reads it
-  // back instead of running the case again (GNU parallel's runs, then --check --reuse).
-  const fs::path failed = out / "failure.txt";
-  auto read_failure = [&]() -> std::optional<std::string> {
-    std::ifstream f(failed);
-    std::string source, dt, why;
-    if (!std::getline(f, source) || !std::getline(f, dt) || !std::getline(f, why)) return std::nullopt;
-    if (source != scene.source || dt != num(scene.dt)) return std::nullopt;
-    return why;
-  };
-  try {
-    const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), scene) : std::nullopt;
-    const std::optional<std::string> stopped = p.reuse && !done ? read_failure() : std::nullopt;
-    if (stopped) throw RunFailure(*stopped);
-    fs::remove(failed);
-    const bool resume = p.resume && !done && fs::exists(out / "checkpoint.bin");
-    r.summary = done ? *done
-                     : run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress,
-                                         .label = "four_cells_vs_disks " + c.name, .checkpoint_wall = 300, .resume = resume});
-  } catch (const RunFailure& e) {
-    r.failure = e.what();
-    std::replace(r.failure.begin(), r.failure.end(), '\n', ' ');
-    std::ofstream(failed) << scene.source << "\n" << num(scene.dt) << "\n" << r.failure << "\n";
-  }
+  // Run, or read back a finished or failed run (--reuse after GNU parallel's runs).
+  const case_runner::CaseRun run = case_runner::run_or_reuse(scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume,
+                                                                       .reuse = p.reuse, .label = "four_cells_vs_disks " + c.name});
+  r.summary = run.summary;
+  r.failure = run.failure;
   const std::string series = (out / "series.csv").string();
   if (!fs::exists(series)) {
     if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
@@ -336,6 +314,24 @@ std::string spread_table(const Params& p, const Results& res) {
                     re ? (" (" + std::to_string(tol / v[0] * 100).substr(0, 4) + " %)").c_str() : "");
       md << row;
     }
+  // The Δt sequences (evidence for the deviations' causes, not for the tolerances above).
+  md << "\nDistance (um) against Δt (h = 0.3125 um); the observed order from three Δt, and the Δt -> 0 estimate "
+        "v(Δt_min) + (v(Δt_min) - v(2 Δt_min))/(2^p - 1) with p the observed order (p = 1 when only two):\n\n"
+        "| bodies | 6 us | 3 us | 1.5 us | observed order | Δt -> 0 |\n|---|---|---|---|---|---|\n";
+  for (const std::string base : {"kb1", "kb100", "kb1000", "disks"}) {
+    std::vector<double> v;
+    for (const std::string suffix : {"", "_dt3us", "_dt1.5us"}) v.push_back(ok(base + suffix) ? res.cases.at(base + suffix).distance * 1e6 : NAN);
+    if (!std::isfinite(v[0]) || !std::isfinite(v[1])) continue;
+    const double order = std::isfinite(v[2]) ? std::log2((v[0] - v[1]) / (v[1] - v[2])) : NAN;
+    const double q = std::isfinite(order) && order > 0.25 ? order : 1.0;
+    const double fine = std::isfinite(v[2]) ? v[2] : v[1], coarse = std::isfinite(v[2]) ? v[1] : v[0];
+    char row[300];
+    std::snprintf(row, sizeof row, "| %s | %.3f | %.3f | %s | %s | %.3f |\n",
+                  base == "kb1" ? "4 cells k_b" : base == "disks" ? "4 disks" : ("4 cells " + base.substr(2) + " k_b").c_str(), v[0], v[1],
+                  std::isfinite(v[2]) ? num(std::round(v[2] * 1000) / 1000).c_str() : "-",
+                  std::isfinite(order) ? num(std::round(order * 100) / 100).c_str() : "-", fine + (fine - coarse) / (std::pow(2.0, q) - 1));
+    md << row;
+  }
   return md.str();
 }
 

@@ -114,4 +114,14 @@ double hematocrit_percent(const std::vector<Cell>& cells, double fluid_area) {
   return 100.0 * a / fluid_area;
 }
 
+WallGaps wall_gaps(const std::vector<Cell>& cells, double height) {
+  WallGaps g{height, height};
+  for (const Cell& c : cells)
+    for (const auto& r : c.nodes) {
+      g.lower = std::min(g.lower, r.y());
+      g.upper = std::min(g.upper, height - r.y());
+    }
+  return g;
+}
+
 }  // namespace rbc

@@ -4,6 +4,9 @@
 //   centroid     area-weighted centroid of the enclosed region (x1 unwrapped), m
 //   area drift   s / s_prepared − 1
 //   hematocrit   Σ cell areas / fluid area (L H minus obstacles), %
+//   wall gaps    the cell-free layer at an instant (SPEC section 5.3): the gap between each wall
+//                and the membrane node of any cell closest to it, min_k,i r_ki·e2 (lower wall
+//                x2 = 0) and H − max_k,i r_ki·e2 (upper wall x2 = H), m
 //
 // Shape descriptor, in the frame of the flow (x1 downstream), with D the cell's x1-extent:
 //   rear concavity   κ_r = (x_rear(y_c) − x_min) / D   — how far the rear midpoint (where the
@@ -59,5 +62,9 @@ ShapeDescriptor describe_shape(const Points& r);
 OwnFrameShape describe_shape_in_own_frame(const Points& r);
 CellState measure_cell(const Cell& c, double rest_length);
 double hematocrit_percent(const std::vector<Cell>& cells, double fluid_area);
+struct WallGaps {
+  double lower = 0, upper = 0;  // m; the channel height H each if there are no cells
+};
+WallGaps wall_gaps(const std::vector<Cell>& cells, double height);
 
 }  // namespace rbc

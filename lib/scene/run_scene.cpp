@@ -260,7 +260,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   series.precision(10);
   if (fresh) {
     series << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
-    if (!cells.empty()) series << ",plasma_flux_velocity,plasma_open_velocity";
+    if (!cells.empty()) series << ",plasma_flux_velocity,plasma_open_velocity,wall_gap_lower,wall_gap_upper";
     if (sim.obstacles()) series << ",wide_velocity,narrow_velocity,uzawa_iterations";
     for (std::size_t k = 0; k < cells.size(); ++k)
       for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series << ",cell" << k << "_" << q;
@@ -287,7 +287,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
       std::vector<const Points*> membranes;
       for (const Cell& c : cells) membranes.push_back(&c.nodes);
       const PlasmaVelocity pv = plasma_velocity(flow.mesh(), flow.velocity(), membranes);
-      series << "," << pv.flux_per_height << "," << pv.over_open_height;
+      const WallGaps gap = wall_gaps(cells, scene.height);  // the cell-free layer at this instant
+      series << "," << pv.flux_per_height << "," << pv.over_open_height << "," << gap.lower << "," << gap.upper;
     }
     if (const ObstacleConstraint* ob = sim.obstacles()) {  // flux over open height, per part (obstacles.hpp)
       const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());

@@ -1,0 +1,320 @@
+#include "cell_free_layer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/case_runner.hpp"
+#include "io/csv.hpp"
+
+namespace rbc::cell_free_layer {
+
+namespace fs = std::filesystem;
+using case_runner::num;
+
+namespace {
+
+const std::string kSceneFile = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/cell_free_layer/cell_free_layer.toml";
+
+// "n50", "n100": a case's base name (appended, not "n" + ..., which GCC 12 warns about falsely).
+std::string base_name(int cells) {
+  std::string s = "n";
+  s += std::to_string(cells);
+  return s;
+}
+
+// The study's end times: 150 ms for 50 cells, 200 ms for 100 (Figs. 9-10).
+double study_end(int cells) { return cells == 50 ? 0.15 : 0.2; }
+
+// The study's snapshot times (Fig. 9: 0, 50, 100, 150 ms; Fig. 10: 0, 100, 150, 200 ms) and those
+// of the Hct profile (every kProfileEvery over the last kProfileWindow).
+std::vector<double> snapshot_times(int cells, double end, bool quick) {
+  std::vector<double> t = {0.0};
+  if (!quick) {
+    if (cells == 50) t.insert(t.end(), {0.05, 0.1});
+    else t.insert(t.end(), {0.1, 0.15});
+  }
+  const double window = quick ? end / 2 : kProfileWindow, every = quick ? end / 10 : kProfileEvery;
+  const int n = int(std::lround(window / every));
+  for (int k = n; k >= 0; --k) t.push_back(end - k * every);
+  std::sort(t.begin(), t.end());
+  t.erase(std::unique(t.begin(), t.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), t.end());
+  return t;
+}
+
+// The length of the line x2 = y inside the closed polygon r (the sum of its inside intervals).
+double chord(const std::vector<Eigen::Vector2d>& r, double y) {
+  std::vector<double> xs;
+  for (std::size_t i = 0, n = r.size(), j = n - 1; i < n; j = i++)
+    if ((r[i].y() > y) != (r[j].y() > y)) xs.push_back(r[j].x() + (y - r[j].y()) * (r[i].x() - r[j].x()) / (r[i].y() - r[j].y()));
+  std::sort(xs.begin(), xs.end());
+  double c = 0;
+  for (std::size_t k = 0; k + 1 < xs.size(); k += 2) c += xs[k + 1] - xs[k];
+  return c;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> arrangement(int n, unsigned seed, double L, double H) {
+  if (n <= 0 || n % kColumns != 0) throw std::invalid_argument("cell_free_layer: the lattice needs a multiple of " + std::to_string(kColumns) + " cells");
+  const int rows = n / kColumns;
+  std::mt19937 g(seed);
+  std::vector<Eigen::Vector2d> c;
+  for (int r = 0; r < rows; ++r)
+    for (int k = 0; k < kColumns; ++k) {
+      Eigen::Vector2d p((k + 0.5 + (r % 2 ? 0.5 : 0.0)) * L / kColumns, (r + 0.5) * H / rows);
+      if (seed != 0) {
+        p.x() += kShiftX * case_runner::symmetric_unit(g);
+        p.y() += kShiftY * case_runner::symmetric_unit(g);
+      }
+      c.push_back(p);
+    }
+  return c;
+}
+
+Scene case_scene(const Case& c, bool quick) {
+  std::ifstream in(kSceneFile);
+  if (!in) throw std::runtime_error("cell_free_layer: cannot read " + kSceneFile);
+  std::ostringstream text;
+  text << in.rdbuf() << "\n";
+  const Scene channel = parse_scene(text.str(), kSceneFile);
+  for (const auto& at : arrangement(c.cells, c.seed, channel.length, channel.height))
+    text << "[[cell]]\ncenter = [" << num(at.x()) << ", " << num(at.y()) << "]\nswelling_ratio = " << num(kSwellingRatio) << "\n";
+  std::vector<std::string> o;
+  const double h = c.h > 0 ? c.h : quick ? kQuickMesh : 0;
+  if (h > 0) o.push_back("channel.mesh_size=" + num(h));
+  const double end = c.end > 0 ? c.end : quick ? kQuickEnd : study_end(c.cells);
+  o.push_back("time.end=" + num(end));
+  std::string snaps = "output.snapshots=[";
+  for (double t : snapshot_times(c.cells, end, quick)) snaps += num(t) + ",";
+  snaps.back() = ']';
+  o.push_back(snaps);
+  if (c.dt > 0) {
+    const int q = parse_scene(text.str(), kSceneFile, o).advection_substeps_for(c.dt);
+    o.push_back("time.dt=" + num(c.dt));
+    o.push_back("time.advection_substeps=" + std::to_string(q));
+  }
+  Scene s = parse_scene(text.str(), kSceneFile, o);
+  s.source = "cell_free_layer " + c.name + (quick ? " quick" : "");
+  return s;
+}
+
+std::vector<Case> cases(const Params& p) {
+  std::vector<Case> v;
+  auto make = [](std::string name, std::string role, int n, unsigned seed) {
+    Case c;
+    c.name = std::move(name);
+    c.role = std::move(role);
+    c.cells = n;
+    c.seed = seed;
+    return c;
+  };
+  // The longest first (GNU parallel starts them in this order): Δt halved, then 100 cells, 50.
+  if (p.evidence && !p.quick)
+    for (int n : {100, 50}) {
+      Case c = make(base_name(n) + "_dt3us", "evidence", n, 1);
+      c.dt = 3e-6;
+      v.push_back(c);
+    }
+  for (int n : {100, 50}) {
+    v.push_back(make(base_name(n), "study", n, 1));
+    if (!p.quick)
+      for (unsigned s : p.seeds) v.push_back(make(base_name(n) + "_seed" + std::to_string(s), "ensemble", n, s));
+  }
+  if (p.evidence && !p.quick)
+    for (int n : {100, 50}) {
+      Case c = make(base_name(n) + "_h0.625um", "evidence", n, 1);
+      c.h = 0.625e-6;
+      v.push_back(c);
+    }
+  return v;
+}
+
+void hematocrit_profile(const std::string& snapshots, double from, double L, double H, double dy, std::vector<double>& y,
+                        std::vector<double>& fraction) {
+  const int bins = int(std::lround(H / dy));
+  y.assign(bins, 0.0);
+  fraction.assign(bins, 0.0);
+  for (int b = 0; b < bins; ++b) y[b] = (b + 0.5) * H / bins;
+  std::ifstream f(snapshots);
+  if (!f) throw std::runtime_error("cell_free_layer: cannot read " + snapshots);
+  std::string line;
+  double t = -1;
+  int used = 0;
+  std::vector<Eigen::Vector2d> cell;
+  auto finish_cell = [&] {
+    if (t >= from - 1e-12 && cell.size() > 2)
+      for (int b = 0; b < bins; ++b) fraction[b] += chord(cell, y[b]) / L;
+    cell.clear();
+  };
+  while (std::getline(f, line)) {
+    if (line.rfind("# t = ", 0) == 0) {
+      finish_cell();
+      t = std::stod(line.substr(6));
+      if (t >= from - 1e-12) ++used;
+    } else if (line.rfind("# cell", 0) == 0 || line.empty()) {
+      finish_cell();
+    } else {
+      double x1, x2;
+      if (std::sscanf(line.c_str(), "%lf %lf", &x1, &x2) == 2) cell.emplace_back(x1, x2);
+    }
+  }
+  finish_cell();
+  if (used == 0) throw std::runtime_error("cell_free_layer: no snapshot at or after t = " + std::to_string(from) + " s in " + snapshots);
+  for (double& v : fraction) v /= used;
+}
+
+namespace {
+
+CaseResult run_case(const Params& p, const Case& c) {
+  CaseResult r;
+  r.spec = c;
+  const Scene scene = case_scene(c, p.quick);
+  r.h = scene.mesh_size;
+  r.dt = scene.dt;
+  const fs::path out = fs::path(p.out_dir) / c.name;
+  const case_runner::CaseRun run = case_runner::run_or_reuse(
+      scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = "cell_free_layer " + c.name});
+  r.summary = run.summary;
+  r.failure = run.failure;
+  const std::string series = (out / "series.csv").string();
+  if (!fs::exists(series)) {
+    if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
+    return r;
+  }
+  r.t = csv_column(series, "t");
+  r.gap_lower = csv_column(series, "wall_gap_lower");
+  r.gap_upper = csv_column(series, "wall_gap_upper");
+  r.hematocrit = csv_column(series, "hematocrit");
+  r.reynolds = csv_column(series, "reynolds");
+  if (!r.failure.empty() || r.t.empty()) return r;
+  const double from = r.t.back() - kWindow;
+  r.layer_lower = case_runner::window_mean(r.t, r.gap_lower, from);
+  r.layer_upper = case_runner::window_mean(r.t, r.gap_upper, from);
+  r.layer = 0.5 * (r.layer_lower + r.layer_upper);
+  r.hct = case_runner::window_mean(r.t, r.hematocrit, from);
+  r.re = case_runner::window_mean(r.t, r.reynolds, from);
+  const double window = p.quick ? r.t.back() / 2 : kProfileWindow;
+  hematocrit_profile((out / "snapshots.dat").string(), r.t.back() - window, scene.length, scene.height, scene.mesh_size, r.profile_y, r.profile);
+  // The layer against time (Figs. 9-10's companion) and the profile, for plot.gp.
+  std::ofstream f(fs::path(p.out_dir) / ("layer_" + c.name + ".dat"));
+  f << "# " << c.cells << " cells s* = 0.7, arrangement seed " << c.seed << "\n# t (ms), gap lower wall (um), gap upper wall (um), mean (um), Hct (%), Re\n";
+  for (std::size_t k = 0; k < r.t.size(); ++k)
+    f << r.t[k] * 1e3 << " " << r.gap_lower[k] * 1e6 << " " << r.gap_upper[k] * 1e6 << " " << 0.5 * (r.gap_lower[k] + r.gap_upper[k]) * 1e6 << " "
+      << r.hematocrit[k] << " " << r.reynolds[k] << "\n";
+  std::ofstream g(fs::path(p.out_dir) / ("profile_" + c.name + ".dat"));
+  g << "# area fraction of cells (%) across the channel, mean over the snapshots of the last " << window * 1e3 << " ms\n# x2 (um), Hct(x2) (%)\n";
+  for (std::size_t b = 0; b < r.profile.size(); ++b) g << r.profile_y[b] * 1e6 << " " << 100 * r.profile[b] << "\n";
+  return r;
+}
+
+double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
+double sample_sd(const std::vector<double>& v) {
+  if (v.size() < 2) return NAN;
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / (v.size() - 1));
+}
+
+// Every row's value over the arrangements (the study's seed and the ensemble's), their mean and
+// sample standard deviation, and the change with Δt halved and with h doubled.
+std::string ensemble_table(const Params& p, const Results& res) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  std::ostringstream md;
+  md << "Rows over the arrangements (seed 1: the study's case; the others: the ensemble), their mean and sample standard deviation s, "
+        "and the change of the study's case with Δt halved and with h doubled:\n\n"
+        "| row | seed 1 | other seeds | mean | s | Δt/2 − seed 1 | 2h − seed 1 |\n|---|---|---|---|---|---|---|\n";
+  struct Q { const char* label; double CaseResult::*field; double scale; };
+  const Q qs[] = {{"cell-free layer, mean of the walls (um)", &CaseResult::layer, 1e6},
+                  {"cell-free layer, lower wall (um)", &CaseResult::layer_lower, 1e6},
+                  {"cell-free layer, upper wall (um)", &CaseResult::layer_upper, 1e6},
+                  {"Re", &CaseResult::re, 1.0},
+                  {"Hct (%)", &CaseResult::hct, 1.0}};
+  for (int n : {50, 100}) {
+    const std::string base = base_name(n);
+    if (!ok(base)) continue;
+    for (const Q& q : qs) {
+      std::vector<double> v = {res.cases.at(base).*q.field * q.scale};
+      std::string others;
+      for (unsigned s : p.seeds) {
+        const std::string name = base + "_seed" + std::to_string(s);
+        char b[40];
+        if (ok(name)) {
+          v.push_back(res.cases.at(name).*q.field * q.scale);
+          std::snprintf(b, sizeof b, " %.4g", v.back());
+        } else {
+          std::snprintf(b, sizeof b, " (seed %u: %s)", s, res.cases.count(name) ? "stopped" : "not run");
+        }
+        others += b;
+      }
+      auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
+      char row[400];
+      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %.3g | %+.3g | %+.3g |\n", n, q.label, v[0], others.c_str(), mean(v), sample_sd(v),
+                    change(base + "_dt3us"), change(base + "_h0.625um"));
+      md << row;
+    }
+  }
+  return md.str();
+}
+
+}  // namespace
+
+Results run(const Params& p) {
+  std::vector<Case> all = cases(p);
+  if (!p.only.empty()) {
+    std::erase_if(all, [&](const Case& c) { return c.name != p.only; });
+    if (all.empty()) throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/cell_free_layer --list-cases lists them)");
+  }
+  fs::create_directories(p.out_dir);
+  Results res;
+  for (const Case& c : all) res.cases[c.name] = run_case(p, c);
+  if (!p.only.empty()) return res;
+
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  for (int n : {50, 100}) {
+    const std::string name = base_name(n), tag = std::to_string(n);
+    if (!ok(name)) {
+      const std::string why = res.cases.count(name) ? "run stopped: " + res.cases.at(name).failure : "not run";
+      for (const char* id : {"hct_", "cfl_", "re_"}) res.measured[id + tag] = {{}, {}, why};
+      continue;
+    }
+    const CaseResult& r = res.cases.at(name);
+    char note[300];
+    std::snprintf(note, sizeof note, "over %.4g-%.4g s", r.t.back() - kWindow, r.t.back());
+    if (p.quick) continue;  // the quick case has its own record (below)
+    res.measured["hct_" + tag] = {r.hct, {}, note};
+    std::snprintf(note, sizeof note, "lower wall %.3f um, upper wall %.3f um, over %.4g-%.4g s; 100/Hct = %.2f um (ours)", r.layer_lower * 1e6,
+                  r.layer_upper * 1e6, r.t.back() - kWindow, r.t.back(), 100 / r.hct);
+    res.measured["cfl_" + tag] = {r.layer * 1e6, {}, note};
+    res.measured["re_" + tag] = {r.re, {}, "mean over the last ms"};
+  }
+  if (!p.quick) {  // the quick run has one arrangement and no evidence runs
+    res.ensemble_md = ensemble_table(p, res);
+    std::ofstream(fs::path(p.out_dir) / "ensemble.md") << res.ensemble_md;
+  }
+  {
+    std::ofstream f(fs::path(p.out_dir) / "cases.csv");
+    f << "case,role,cells,seed,h_um,dt_s,steps,wall_seconds,layer_um,layer_lower_um,layer_upper_um,hct_percent,reynolds,failure\n";
+    for (const auto& [name, r] : res.cases)
+      f << name << "," << r.spec.role << "," << r.spec.cells << "," << r.spec.seed << "," << r.h * 1e6 << "," << r.dt << "," << r.summary.steps << ","
+        << r.summary.wall_seconds << "," << r.layer * 1e6 << "," << r.layer_lower * 1e6 << "," << r.layer_upper * 1e6 << "," << r.hct << "," << r.re
+        << "," << (r.failure.empty() ? "" : "stopped") << "\n";
+  }
+  if (p.quick)
+    for (const auto& [name, r] : res.cases) {
+      if (!r.failure.empty()) continue;
+      const std::string what = " (" + std::to_string(r.spec.cells) + " cells, seed " + std::to_string(r.spec.seed) + "), last ms of 3 ms";
+      res.quick_record["cfl_" + name] = {"cell-free layer, mean of the walls" + what, "um", r.layer * 1e6};
+      res.quick_record["re_" + name] = {"Reynolds number" + what, "", r.re};
+      res.quick_record["hct_" + name] = {"hematocrit" + what, "%", r.hct};
+    }
+  return res;
+}
+
+}  // namespace rbc::cell_free_layer

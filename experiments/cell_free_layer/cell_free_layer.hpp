@@ -1,0 +1,113 @@
+#pragma once
+// Experiment cell_free_layer — many cells and the plasma layer next to the walls (Shi, Pan &
+// Glowinski 2012, DOI 10.1002/fld.2455, Sec. 4.3, Figs. 9-10; SPEC section 5.3).
+//
+// Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) 50 s* = 0.7 cells
+// (Hct 17.24 %, to 150 ms) and 100 cells (Hct 34.48 %, to 200 ms) leave a cell-free layer next to
+// each wall of 6.24 um and 2.94 um (mean of the two walls, last millisecond), close to the
+// empirical estimate 100/Hct um (5.8 and 2.9 um); Re with the cells 2.346 and 1.677.
+//
+// Method: the cells by the semi-implicit coupling (lib/immersed_boundary); the health check
+// stops a run whose membranes cross (lib/membrane/membrane_crossing.hpp). Scene:
+// cell_free_layer.toml (channel, time, output) plus each case's cells, added here.
+//
+// The initial arrangement (the study shows it only in its figures; ours, stated and seeded):
+// the cells lie on a lattice of 10 columns and n/10 rows, row r at x2 = (r + 1/2) H / rows,
+// column c at x1 = (c + 1/2) L / 10, odd rows shifted by half a column; every cell's long axis
+// along x1 (SPEC section 5: "long axis along x1 unless stated"). Each centre is then moved by a
+// uniform amount in [−δ1, δ1] x [−δ2, δ2] drawn from the case's seed (a Mersenne twister's raw
+// output, the same on every platform): δ1 = 1 um, δ2 = 0.4 um keep the 100-cell rows (5 um apart,
+// cells 3.4 um thick) at least 0.8 um apart. Seed 1 is the study's case; seeds 2, 3 the ensemble.
+//
+// Definitions (SPEC sections 5.3 and 6):
+//   cell-free layer  at each sample the gap between a wall and the membrane node (of any cell)
+//                    closest to it (series.csv wall_gap_lower, wall_gap_upper), averaged over the
+//                    samples (every 0.1 ms) of the last millisecond; each wall and their mean;
+//   Hct              Σ cell areas / (L H), the same window; the empirical estimate is 100/Hct um;
+//   Re               ρ U H / μ with U the mean velocity over the section, the same window;
+//   Hct profile      the area fraction of cells at height x2, Σ_cells chord(x2) / L (chord: the
+//                    length of the line x2 = const inside the membrane polygon), on bins of h,
+//                    averaged over the snapshots of the last kProfileWindow.
+//
+// Cases (--list-cases; run one with --only NAME, collect with --check --reuse):
+//   n50 n100                         the study's runs (seed 1)
+//   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
+//   n50_dt3us, n50_h0.625um, ...     Δt halved and h doubled (the error)
+//
+// Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
+//       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
+//       build/bin/cell_free_layer --quick --check    (h = 0.625 um, 3 ms)
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "reference/reference_table.hpp"
+#include "reference/regression_record.hpp"
+#include "scene/run_scene.hpp"
+
+namespace rbc::cell_free_layer {
+
+// The arrangement: 10 columns; the perturbation's half-widths, m.
+inline constexpr int kColumns = 10;
+inline constexpr double kShiftX = 1e-6, kShiftY = 0.4e-6;
+inline constexpr double kSwellingRatio = 0.7;
+// The rows' window: the last millisecond; the Hct profile's: the last 20 ms (snapshots every 1 ms).
+inline constexpr double kWindow = 1e-3;
+inline constexpr double kProfileWindow = 20e-3, kProfileEvery = 1e-3;
+// Quick case: h = 0.625 um, 3 ms.
+inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 3e-3;
+
+struct Case {
+  std::string name;
+  std::string role;     // "study", "ensemble", "evidence"
+  int cells = 50;       // 50 or 100
+  unsigned seed = 1;    // the arrangement's perturbation (0: the lattice itself)
+  double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's (end: 150 ms for 50 cells, 200 ms for 100)
+};
+
+struct Params {
+  std::string out_dir = "results/cell_free_layer";
+  bool quick = false;
+  int threads = 0;
+  bool progress = true;
+  bool resume = false;
+  bool reuse = false;
+  std::string only;
+  std::vector<unsigned> seeds = {2, 3};  // the ensemble besides the study's seed 1
+  bool evidence = true;
+};
+
+// The cells' centres of an arrangement of n cells (m), in the channel L x H.
+std::vector<Eigen::Vector2d> arrangement(int n, unsigned seed, double L, double H);
+std::vector<Case> cases(const Params& p);
+Scene case_scene(const Case& c, bool quick);
+
+struct CaseResult {
+  Case spec;
+  double h = 0, dt = 0;
+  RunSummary summary;
+  std::string failure;
+  std::vector<double> t, gap_lower, gap_upper, hematocrit, reynolds;  // the samples (s, m, m, %, -)
+  double layer_lower = 0, layer_upper = 0, layer = 0;  // m, over the last kWindow
+  double hct = 0, re = 0;                               // %, -, same window
+  std::vector<double> profile_y, profile;               // m, area fraction (0..1), over the last kProfileWindow
+};
+
+struct Results {
+  std::map<std::string, CaseResult> cases;
+  std::map<std::string, Measured> measured;
+  std::map<std::string, Observed> quick_record;
+  std::string ensemble_md;  // every row's mean and spread over the arrangements, and the Δt/h changes
+};
+
+Results run(const Params& p);
+
+// The time-averaged area fraction of the membranes in snapshots.dat over t ≥ from, on bins of
+// width dy across 0 < x2 < H (bin centres in y, fractions 0..1); channel length L. Public for the
+// test (a known arrangement's profile integrates to its hematocrit).
+void hematocrit_profile(const std::string& snapshots, double from, double L, double H, double dy, std::vector<double>& y,
+                        std::vector<double>& fraction);
+
+}  // namespace rbc::cell_free_layer

@@ -1,0 +1,64 @@
+# Figures of the cell_free_layer experiment (Figs. 9-10 of DOI 10.1002/fld.2455, redrawn from our runs).
+#   gnuplot -e "dir='results/cell_free_layer'; figdir='paper/report/figures'" experiments/cell_free_layer/plot.gp
+if (!exists("dir")) dir = 'results/cell_free_layer'
+if (!exists("figdir")) figdir = dir
+L = 100.0; H = 50.0
+wrap(x) = x - L*floor(x/L)
+# The index (0-based) of the snapshot nearest to t ms in a snapshots.dat (one block per '# t =').
+index_at(f, t) = int(system(sprintf("awk '/^# t =/{d=$4*1e3-%g; if(d<0)d=-d; if(n==0||d<best){best=d; k=n}; n++} END{print k+0}' %s", t, f)))
+time_at(f, k) = real(system(sprintf("awk '/^# t =/{if(n==%d)print $4*1e3; n++}' %s", k, f)))
+last_time(c) = real(system(sprintf("tail -1 %s/layer_%s.dat | awk '{print $1}'", dir, c)))
+
+# Figs. 9 and 10: the membranes at the study's four instants (x1 modulo L).
+set terminal pngcairo size 1200, 700 font ',10'
+do for [n in "50 100"] {
+  c = 'n'.n
+  f = sprintf('%s/%s/snapshots.dat', dir, c)
+  tend = last_time(c)
+  times = n eq '50' ? sprintf('0 %g %g %g', tend/3, 2*tend/3, tend) : sprintf('0 %g %g %g', tend/2, 3*tend/4, tend)
+  set output figdir.'/cell_free_layer_membranes_'.n.'.png'
+  set multiplot layout 2,2 title n.' cells, s* = 0.7 (Hct '.(n eq '50' ? '17.24' : '34.48').' %)'
+  set size ratio -1
+  set xrange [0:L]; set yrange [0:H]
+  set xlabel 'x_1 (um)'; set ylabel 'x_2 (um)'
+  unset key
+  do for [w in times] {
+    k = index_at(f, real(w))
+    set title sprintf('t = %.0f ms', time_at(f, k))
+    plot f index k using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.15 lc rgb 'red'
+  }
+  unset multiplot
+}
+
+# The cell-free layer against time (mean of the walls; the other arrangements thin), the study's
+# values and the empirical estimate 100/Hct at the end.
+set size noratio
+set terminal pngcairo size 1000, 620 font ',11'
+set output figdir.'/cell_free_layer_layer.png'
+set title 'Cell-free layer: gap between each wall and the nearest membrane node, mean of the two walls'
+set xlabel 't (ms)'; set ylabel 'cell-free layer (um)'
+set autoscale x; set autoscale y
+set key outside bottom center horizontal maxcols 3
+# (layer_n50.dat heads the list, drawn again under its thick line: gnuplot's plot iteration runs
+# at least once, so the list must not be empty)
+ens = 'layer_n50.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
+long = last_time('n50') > 100
+plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells', \
+     dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells', \
+     for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
+     '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
+     '-' using (long ? $1 : 1/0):2 with points pt 6 ps 1.5 lc rgb 'black' title 'empirical 100/Hct (the study''s comparison)'
+150 6.24
+200 2.94
+e
+150 5.8
+200 2.9
+e
+
+# The time-averaged hematocrit across the channel.
+set output figdir.'/cell_free_layer_profile.png'
+set title 'Area fraction of cells across the channel, averaged over the last snapshots'
+set xlabel 'x_2 (um)'; set ylabel 'Hct(x_2) (%)'
+set xrange [0:H]; set yrange [0:*]
+plot dir.'/profile_n50.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
+     dir.'/profile_n100.dat' using 1:2 with lines lw 2 lc 2 title '100 cells'

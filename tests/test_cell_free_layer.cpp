@@ -1,0 +1,120 @@
+// The cell_free_layer experiment: its stated initial arrangement, the hematocrit profile it
+// draws, and its quick case (3 ms, h = 0.625 um) against the committed regression record.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <numbers>
+
+#include "cell_free_layer/cell_free_layer.hpp"
+
+namespace rbc {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace cell_free_layer;
+
+TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcceptIt) {
+  const double L = 100e-6, H = 50e-6;
+  for (int n : {50, 100}) {
+    const auto lattice = arrangement(n, 0, L, H);
+    ASSERT_EQ(int(lattice.size()), n);
+    const int rows = n / kColumns;
+    // Row r at (r + 1/2) H / rows; odd rows shifted by half a column.
+    EXPECT_DOUBLE_EQ(lattice[0].x(), 0.5 * L / kColumns);
+    EXPECT_DOUBLE_EQ(lattice[0].y(), 0.5 * H / rows);
+    EXPECT_DOUBLE_EQ(lattice[kColumns].x(), 1.0 * L / kColumns);
+    EXPECT_DOUBLE_EQ(lattice[n - 1].y(), (rows - 0.5) * H / rows);
+    // A seed moves every centre within the stated half-widths, and the same seed gives the same start.
+    for (unsigned seed : {1u, 2u, 3u}) {
+      const auto moved = arrangement(n, seed, L, H);
+      EXPECT_EQ(moved, arrangement(n, seed, L, H));
+      int changed = 0;
+      for (int k = 0; k < n; ++k) {
+        EXPECT_LE(std::abs(moved[k].x() - lattice[k].x()), kShiftX);
+        EXPECT_LE(std::abs(moved[k].y() - lattice[k].y()), kShiftY);
+        changed += moved[k] != lattice[k];
+      }
+      EXPECT_EQ(changed, n);
+    }
+  }
+  EXPECT_THROW(arrangement(55, 1, L, H), std::invalid_argument);
+  // Every case's scene parses: the cells inside the channel and apart (scene validation), the
+  // study's hematocrit from the cells' target areas (s* π R0² each).
+  Params p;
+  for (const Case& c : cases(p)) {
+    const Scene s = case_scene(c, false);
+    ASSERT_EQ(int(s.cells.size()), c.cells) << c.name;
+    const double hct = 100.0 * c.cells * kSwellingRatio * std::numbers::pi * 2.8e-6 * 2.8e-6 / (s.length * s.height);
+    EXPECT_NEAR(hct, c.cells == 50 ? 17.24 : 34.48, 0.005) << c.name;
+    EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
+  }
+}
+
+TEST(CellFreeLayerExperiment, HematocritProfileOfKnownCirclesIsTheirChords) {
+  // Two circles of radius R at heights 10 and 30 um in a 100 x 50 um channel, in two snapshots
+  // (one before the window, which must not count).
+  const double L = 100e-6, H = 50e-6, R = 2.8e-6;
+  const fs::path f = fs::temp_directory_path() / "rbcflow_cfl_profile.dat";
+  {
+    std::ofstream o(f);
+    for (double t : {0.0, 0.01}) {
+      o << "# t = " << t << " s\n";
+      for (double yc : {10e-6, 30e-6}) {
+        o << "# cell\n";
+        const int N = 400;
+        for (int i = 0; i <= N; ++i) {
+          const double a = 2 * std::numbers::pi * i / N;
+          o << 20e-6 + (t > 0 ? R : 2 * R) * std::cos(a) << " " << yc + (t > 0 ? R : 2 * R) * std::sin(a) << "\n";
+        }
+        o << "\n";
+      }
+      o << "\n";
+    }
+  }
+  std::vector<double> y, phi;
+  hematocrit_profile(f.string(), 0.005, L, H, 0.25e-6, y, phi);
+  ASSERT_EQ(y.size(), 200u);
+  double integral = 0;
+  for (std::size_t b = 0; b < y.size(); ++b) {
+    integral += phi[b] * 0.25e-6;
+    const double d = std::min(std::abs(y[b] - 10e-6), std::abs(y[b] - 30e-6));
+    const double chord = d < R ? 2 * std::sqrt(R * R - d * d) : 0.0;
+    EXPECT_NEAR(phi[b], chord / L, 2e-3) << "x2 = " << y[b];  // the polygon's chords within 0.2 um
+  }
+  // ∫ φ dx2 = Σ areas / L (the hematocrit times H).
+  EXPECT_NEAR(integral, 2 * std::numbers::pi * R * R / L, 0.01 * 2 * std::numbers::pi * R * R / L);
+  EXPECT_THROW(hematocrit_profile(f.string(), 1.0, L, H, 0.25e-6, y, phi), std::runtime_error);
+  fs::remove(f);
+}
+
+TEST(CellFreeLayerExperiment, QuickRunMatchesItsRegressionRecord) {
+  Params p;
+  p.quick = true;
+  p.progress = false;
+  p.threads = 1;
+  p.out_dir = (fs::temp_directory_path() / "rbcflow_cell_free_layer_quick").string();
+  fs::remove_all(p.out_dir);
+  const auto r = run(p);
+  ASSERT_EQ(r.cases.size(), 2u);
+  for (const auto& [name, c] : r.cases) {
+    EXPECT_TRUE(c.failure.empty()) << name << ": " << c.failure;
+    EXPECT_NEAR(c.hct, c.spec.cells == 50 ? 17.24 : 34.48, 0.05) << name;  // areas kept within 0.3 %
+    EXPECT_GT(c.layer_lower, 0.0) << name;
+    EXPECT_GT(c.layer_upper, 0.0) << name;
+    // The profile integrates to the hematocrit (within the chords' and the bins' error).
+    double integral = 0;
+    for (double v : c.profile) integral += v;
+    EXPECT_NEAR(100 * integral / c.profile.size(), c.hct, 0.02 * c.hct) << name;
+  }
+  // More cells, less flow and a thinner layer.
+  EXPECT_LT(r.cases.at("n100").re, r.cases.at("n50").re);
+  EXPECT_LT(r.cases.at("n100").layer, r.cases.at("n50").layer);
+  EXPECT_EQ(run_regression_check("cell_free_layer", r.quick_record, p.out_dir, std::cout), 0);
+  fs::remove_all(p.out_dir);
+}
+
+}  // namespace
+}  // namespace rbc
