@@ -34,6 +34,10 @@
 //                                             uniform amount in [-δ, δ]² (δ = kPerturbation) drawn
 //                                             from a seeded Mersenne twister (reproducible)
 //   kb1_dt3us, disks_dt3us, kb1_h0.625um, disks_h0.625um   Δt halved and h doubled (the error)
+//   kb1000_dt3us, kb100_dt3us, kb1000_dt1.5us, disks_dt1.5us  the Δt sequence of the stiff cells
+//                                             and the disks (evidence for the deviations' causes)
+//   one_disk_x2_10um.toml, one_disk_x2_20um.toml  (scenes for build/bin/rbcflow run) one disk from
+//                                             either side of its equilibrium, to 400 ms
 //   conv_*                                    error against run time on a 1.2 ms horizon
 //
 // Run:  build/bin/four_cells_vs_disks --check            (every case, one after the other)
