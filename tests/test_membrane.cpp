@@ -8,7 +8,9 @@
 #include "diagnostics/cell_diagnostics.hpp"
 #include "membrane/cell.hpp"
 #include "membrane/membrane_crossing.hpp"
+#include "membrane/membrane_repulsion.hpp"
 #include "membrane/shape_preparation.hpp"
+#include "scene/scene.hpp"
 #include "scene/simulation.hpp"
 
 namespace rbc {
@@ -305,6 +307,67 @@ TEST(MembraneCrossing, TheHealthCheckStopsARunWhoseMembranesCross) {
     EXPECT_NE(m.find("membrane crossing: cells 0 and 1"), std::string::npos) << m;
     EXPECT_NE(m.find("at t = 0 s"), std::string::npos) << m;
   }
+}
+
+TEST(MembraneRepulsion, PushesNodesOffTheWallsWithinItsRangeOnly) {
+  const double L = 20e-6, H = 10e-6, rho = 0.3125e-6, s = 1e-4;
+  Cell c;
+  c.nodes = {{5e-6, 0.1e-6}, {6e-6, rho + 1e-9}, {7e-6, H - 0.2e-6}, {8e-6, 5e-6}};
+  std::vector<Points> F(1, Points(4, Eigen::Vector2d::Zero()));
+  const RepulsionCount n = add_membrane_repulsion({c}, L, H, {rho, s}, F);
+  EXPECT_EQ(n.wall_nodes, 2);
+  EXPECT_EQ(n.node_pairs, 0);
+  EXPECT_NEAR(F[0][0].y(), s * std::pow(1 - 0.1e-6 / rho, 2), 1e-18);   // up, off the lower wall
+  EXPECT_EQ(F[0][0].x(), 0.0);
+  EXPECT_EQ(F[0][1].norm(), 0.0);                                      // just beyond the range
+  EXPECT_NEAR(F[0][2].y(), -s * std::pow(1 - 0.2e-6 / rho, 2), 1e-18);  // down, off the upper wall
+  EXPECT_EQ(F[0][3].norm(), 0.0);
+  // Off: nothing.
+  std::vector<Points> G(1, Points(4, Eigen::Vector2d::Zero()));
+  EXPECT_EQ(add_membrane_repulsion({c}, L, H, {rho, 0.0}, G).wall_nodes, 0);
+  EXPECT_EQ(G[0][0].norm(), 0.0);
+}
+
+TEST(MembraneRepulsion, PushesCellsApartEquallyAndOppositelyAcrossThePeriodicBoundary) {
+  const double L = 20e-6, H = 10e-6, rho = 0.3125e-6, s = 1e-4;
+  // Two cells of two nodes each: node 0 of cell a at x1 = 0.05 um, node 0 of cell b at
+  // x1 = L − 0.1 um (0.15 um apart through x1 = 0); the second nodes far from everything; and a
+  // node of cell a next to its own first node (same cell: no force).
+  Cell a, b;
+  a.nodes = {{0.05e-6, 5e-6}, {0.1e-6, 5.05e-6}, {10e-6, 5e-6}};
+  b.nodes = {{L - 0.1e-6, 5e-6}, {15e-6, 5e-6}};
+  std::vector<Points> F = {Points(3, Eigen::Vector2d::Zero()), Points(2, Eigen::Vector2d::Zero())};
+  const RepulsionCount n = add_membrane_repulsion({a, b}, L, H, {rho, s}, F);
+  // Pairs within ρ across the cells: a0-b0 (0.15 um) and a1-b0 (0.2 um and 0.05 up).
+  EXPECT_EQ(n.node_pairs, 2);
+  const double d0 = 0.15e-6, d1 = std::hypot(0.2e-6, 0.05e-6);
+  EXPECT_NEAR(F[0][0].x(), s * std::pow(1 - d0 / rho, 2), 1e-18);  // a0 pushed toward +x1 (away from b0 across the boundary)
+  EXPECT_NEAR(F[0][1].norm(), s * std::pow(1 - d1 / rho, 2), 1e-18);
+  Eigen::Vector2d total = Eigen::Vector2d::Zero();
+  for (const auto& cell : F)
+    for (const auto& f : cell) total += f;
+  EXPECT_LT(total.norm(), 1e-20);  // action and reaction
+  EXPECT_EQ(F[0][2].norm(), 0.0);
+  EXPECT_EQ(F[1][1].norm(), 0.0);
+}
+
+TEST(MembraneRepulsion, SceneSwitchesItOnWithinAMeshCellAndCountsTheStepsItActs) {
+  const std::string channel = "[channel]\nlength = 20e-6\nheight = 10e-6\nmesh_size = 0.25e-6\nreynolds = 0.5556\n"
+                              "[time]\ndt = 5e-8\nend = 5e-8\ncoupling = \"explicit\"\n";
+  const std::string cell = "[[cell]]\ncenter = [5e-6, 1.5e-6]\nswelling_ratio = 0.55\n";
+  EXPECT_EQ(parse_scene(channel + cell, "scene.toml").repulsion_strength, 0.0);  // off by default
+  const Scene s = parse_scene(channel + cell + "[repulsion]\nstrength = 1e-4\n", "scene.toml");
+  EXPECT_EQ(s.repulsion_range, 0.25e-6);  // h unless given
+  EXPECT_THROW(parse_scene(channel + "[repulsion]\nstrength = 1e-4\nrange = 1e-6\n", "scene.toml"), SceneError);  // above 3h
+  // A cell whose lowest node sits 0.1 um off the wall: the repulsion acts in the first step.
+  Simulation sim(s);
+  Points low = sim.cells()[0].nodes;
+  double ymin = 1;
+  for (const auto& p : low) ymin = std::min(ymin, p.y());
+  for (auto& p : low) p.y() += 0.1e-6 - ymin;
+  sim.place_cell(0, low);
+  sim.step();
+  EXPECT_EQ(sim.repulsion_steps(), 1);
 }
 
 }  // namespace

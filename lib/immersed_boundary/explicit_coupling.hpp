@@ -6,11 +6,13 @@
 //   f_B^{n+1} = Σ_i F_i^{n+1} D_h(x − r_i^{n+1})   → the force of step 4       (10)
 //
 // The spring forces are explicit, so Δt is bounded by the membrane stiffness (SPEC section 9
-// measured ≈ 4.7e-8 s at h = 0.125 µm with the study's constants read in SI).
+// measured ≈ 4.7e-8 s at h = 0.125 µm with the study's constants read in SI). A scene's membrane
+// repulsion (membrane_repulsion.hpp; not in the study) adds to F^{n+1} once every cell has moved.
 #include <vector>
 
 #include "immersed_boundary/immersed_boundary.hpp"
 #include "membrane/cell.hpp"
+#include "membrane/membrane_repulsion.hpp"
 #include "mesh/channel_mesh.hpp"
 
 namespace rbc {
@@ -21,6 +23,14 @@ class ExplicitMembraneStep {
   // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt);
   const VelocityField& force() const { return force_; }
+  // The repulsion between membranes and from the walls (off unless set), channel L x H.
+  void set_repulsion(const MembraneRepulsion& r, double L, double H) {
+    repulsion_ = r;
+    length_ = L;
+    height_ = H;
+  }
+  // How many nodes and node pairs it acted on in the last step.
+  const RepulsionCount& last_repulsion() const { return last_repulsion_; }
   // The transfer stencils of each cell's nodes at their new positions (as the last step left them).
   const std::vector<std::vector<NodeStencil>>& stencils() const { return stencils_; }
 
@@ -30,6 +40,10 @@ class ExplicitMembraneStep {
   VelocityField force_;
   Points U_, F_;
   std::vector<std::vector<NodeStencil>> stencils_;
+  MembraneRepulsion repulsion_;
+  double length_ = 0, height_ = 0;
+  std::vector<Points> F_rep_;
+  RepulsionCount last_repulsion_;
 };
 
 }  // namespace rbc

@@ -50,6 +50,8 @@ class SemiImplicitMembraneStep {
   SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4);
   // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
+  // Step 2's mover (the scene's membrane repulsion is set on it).
+  ExplicitMembraneStep& membrane_move() { return move_; }
   // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the velocity change A⁻¹ S (−Δt K U)
   // (m/s, zero on the walls) that turns u⁰ into u^{n+1}: step 4's response to the implicit force.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);

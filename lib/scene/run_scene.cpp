@@ -435,6 +435,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
                                          {"end_concavity", c.own_frame.end_concavity},
                                          {"biconcave", c.own_frame.biconcave}}}});
   if (!sim.disks().empty()) j["disk_contact_steps"] = sim.contact_steps();
+  if (scene.repulsion_strength > 0) j["membrane_repulsion_steps"] = sim.repulsion_steps();
   j["disks"] = nlohmann::json::array();
   for (const Disk& d : sim.disks())
     j["disks"].push_back({{"center", {d.center.x(), d.center.y()}},

@@ -32,6 +32,7 @@ const std::vector<TableSpec>& schema() {
                   "disk_tolerance"}},
       {"output", {"every", "vtk", "snapshots", "fields"}},
       {"contact", {"range", "strength"}},
+      {"repulsion", {"range", "strength"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
   };
   return s;
@@ -416,6 +417,9 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   if (s.contact_range <= s.mesh_size)
     r.fail("[contact] range", "= " + um(s.contact_range) + " must exceed one mesh cell h = " + um(s.mesh_size) +
                                   " (a disk closer than h to a wall or another disk stops the run)");
+  // The membranes' repulsion: range h unless given, within about a mesh cell; off by default.
+  s.repulsion_range = r.number("repulsion", "range", "m", 0, 3 * s.mesh_size, true, s.mesh_size);
+  s.repulsion_strength = r.number("repulsion", "strength", "N/m", 0, 1.0, false, 0.0);
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
@@ -612,6 +616,7 @@ std::string scene_to_toml(const Scene& s) {
     << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
   o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
+  o << "[repulsion]\nrange = " << num(s.repulsion_range > 0 ? s.repulsion_range : s.mesh_size) << "\nstrength = " << num(s.repulsion_strength) << "\n";
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
   o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";

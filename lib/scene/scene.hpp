@@ -23,6 +23,10 @@
 //   [contact] range (m, default 2h), strength (N/m): the disks' short-range repulsion (GPHJ 1999),
 //             F = strength ((range − gap)/range)² along the line of centres (another disk) or the
 //             wall's normal, for a gap below range (simulation.hpp)
+//   [repulsion] range (m, default h), strength (N/m, default 0 = off): a short-range repulsion of
+//             membrane nodes from the walls and from other cells' nodes, s (1 − d/ρ)² within ρ
+//             (lib/membrane/membrane_repulsion.hpp; not in the study: crowded cells, issue 17);
+//             range at most 3h
 //   [[disk]]  center = [x, y] (m), radius (m): a neutrally buoyant rigid disk moving freely with
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
 //             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
@@ -109,6 +113,9 @@ struct Scene {
   // stop at a gap of one mesh cell.
   double contact_range = 0;         // m (set to 2h when read)
   double contact_strength = 1e-3;   // N/m
+  // The membranes' repulsion (membrane_repulsion.hpp): off unless strength > 0.
+  double repulsion_range = 0;       // m (set to h when read)
+  double repulsion_strength = 0;    // N/m
   double fluid_area() const;  // m², L H minus the obstacles
   MembraneModel membrane_model() const {
     return MembraneModel::from(membrane_constants, membrane_nodes, membrane_radius, area_penalty);

@@ -50,7 +50,12 @@ void Simulation::build_cells() {
     semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance);
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
+  // The scene's membrane repulsion (not in the study; off unless [repulsion] strength > 0).
+  if (const MembraneRepulsion rep{scene.repulsion_range, scene.repulsion_strength}; rep.on())
+    membrane_move().set_repulsion(rep, scene.length, scene.height);
 }
+
+ExplicitMembraneStep& Simulation::membrane_move() { return explicit_step_ ? *explicit_step_ : semi_implicit_step_->membrane_move(); }
 
 void Simulation::step() {
   // Disks: step 4 holds them where they will be, G* = Gⁿ + Δt Vⁿ (GPHJ's prediction). Holding
@@ -66,6 +71,10 @@ void Simulation::step() {
   const VelocityField* f_B = nullptr;  // (2) membrane: move the nodes with u^{n+1/3}, spread F
   if (explicit_step_) f_B = &explicit_step_->step(cells_, flow_.velocity(), scene_.dt);
   if (semi_implicit_step_) f_B = &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
+  if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
+    const RepulsionCount& c = membrane_move().last_repulsion();
+    if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
+  }
   flow_.advect();                      // (3) wave-like advection → u^{n+2/3}
   if (disk_constraint_) f_B = add_contact_forces(f_B);  // disks: + their contact forces over their area
   flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
@@ -244,6 +253,7 @@ void Simulation::save(CheckpointWriter& w) const {
     for (const Disk& d : disks_) w.put(Points{d.center, d.velocity, Eigen::Vector2d(d.angular_velocity, d.angle)});
     w.put(std::int64_t(contact_steps_));
   }
+  if (scene_.repulsion_strength > 0) w.put(std::int64_t(repulsion_steps_));  // (only scenes with the repulsion)
 }
 
 void Simulation::load(CheckpointReader& r) {
@@ -273,6 +283,12 @@ void Simulation::load(CheckpointReader& r) {
     contact_steps_ = long(r.get_int());
     if (contact_steps_ < 0 || contact_steps_ > steps())
       throw CheckpointError(r.path() + ": steps with a contact force " + std::to_string(contact_steps_) + " out of range [0, " +
+                            std::to_string(steps()) + "]");
+  }
+  if (scene_.repulsion_strength > 0) {
+    repulsion_steps_ = long(r.get_int());
+    if (repulsion_steps_ < 0 || repulsion_steps_ > steps())
+      throw CheckpointError(r.path() + ": steps with the membrane repulsion " + std::to_string(repulsion_steps_) + " out of range [0, " +
                             std::to_string(steps()) + "]");
   }
 }

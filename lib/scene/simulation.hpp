@@ -82,6 +82,7 @@ class Simulation {
   // repulsion of Glowinski, Pan, Hesla & Joseph 1999 with the gap written out). Central: no torque.
   std::vector<Eigen::Vector2d> contact_forces() const;
   long contact_steps() const { return contact_steps_; }  // steps in which a contact force acted
+  long repulsion_steps() const { return repulsion_steps_; }  // steps in which the membrane repulsion acted
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
   int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
   // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
@@ -106,6 +107,8 @@ class Simulation {
   std::unique_ptr<DiskConstraint> disk_constraint_;
   VelocityField contact_field_;  // step 4's force density with the contact forces (and f_B)
   long contact_steps_ = 0;
+  long repulsion_steps_ = 0;
+  ExplicitMembraneStep& membrane_move();  // step 2's mover, of either coupling
   ProjectionReport last_projection_;
   double speed_excess_time_ = 0;
   void check_disks(const std::string& when) const;  // check_health's part for the disks
