@@ -117,8 +117,8 @@ std::vector<Case> cases(const Params& p) {
   // The longest first (GNU parallel starts them in this order): Δt halved, then 100 cells, 50.
   if (p.evidence && !p.quick)
     for (int n : {100, 50}) {
-      Case c = make(base_name(n) + "_dt3us", "evidence", n, 1);
-      c.dt = 3e-6;
+      Case c = make(base_name(n) + "_dt1.5us", "evidence", n, 1);
+      c.dt = 1.5e-6;
       v.push_back(c);
     }
   for (int n : {100, 50}) {
@@ -256,7 +256,7 @@ std::string ensemble_table(const Params& p, const Results& res) {
       auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
       char row[400];
       std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %.3g | %+.3g | %+.3g |\n", n, q.label, v[0], others.c_str(), mean(v), sample_sd(v),
-                    change(base + "_dt3us"), change(base + "_h0.625um"));
+                    change(base + "_dt1.5us"), change(base + "_h0.625um"));
       md << row;
     }
   }

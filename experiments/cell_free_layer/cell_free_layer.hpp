@@ -32,7 +32,7 @@
 // Cases (--list-cases; run one with --only NAME, collect with --check --reuse):
 //   n50 n100                         the study's runs (seed 1)
 //   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
-//   n50_dt3us, n50_h0.625um, ...     Δt halved and h doubled (the error)
+//   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
 //
 // Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
 //       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
