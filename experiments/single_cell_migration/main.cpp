@@ -17,11 +17,13 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (default results/single_cell_migration)");
   app.add_flag("--quick", quick, "short CI parameters (h = 0.25 um, to 1 ms)");
   app.add_flag("--check", check, "compare with reference-data/single_cell_migration.csv; exit 1 on a failed row");
-  app.add_option("--threads", threads, "OpenMP threads for every case in turn (default: two cases at a time)")
+  app.add_option("--threads", threads, "OpenMP threads of each case, the cases one after the other (default: every core)")
       ->check(CLI::Range(1, 256));
   std::string only;
   bool reuse = false;
-  app.add_option("--only", only, "run only the cases whose name starts with this (e.g. wide, narrow_si)");
+  app.add_option("--only", only, "run only this case (a name from --list-cases), or the cases whose name starts with this (e.g. wide, narrow_si)");
+  bool list = false;
+  app.add_flag("--list-cases", list, "print the cases' names, one per line, the longest first (for GNU parallel)");
   app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
   bool resume = false;
   app.add_flag("--resume", resume, "continue cases stopped by SIGINT/SIGTERM from the checkpoint in their folder");
@@ -37,6 +39,10 @@ int main(int argc, char** argv) {
   if (!out.empty()) p.out_dir = out;
   p.threads = threads;
   try {
+    if (list) {
+      for (const auto& name : scm::case_names(p)) std::printf("%s\n", name.c_str());
+      return 0;
+    }
     const scm::Results r = scm::run(p);
     std::ofstream cases(p.out_dir + "/cases.csv");
     cases << "case,swelling_ratio,units,steps,wall_seconds,reynolds,hematocrit,y_end_um,time_to_centreline_ms,shape,area_drift\n";

@@ -5,11 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "diagnostics/flow_diagnostics.hpp"
+#include "common/case_runner.hpp"
 #include "io/csv.hpp"
 #include "mesh/channel_mesh.hpp"
 
@@ -249,7 +248,13 @@ void re_evidence_table(const Params& p, Results& res) {
   std::ofstream(fs::path(p.out_dir) / "re_evidence.md") << res.re_evidence;
 }
 
-Results run(const Params& p) {
+namespace {
+
+struct ConvJob { std::string name, coupling; double h, dt; };
+
+// The cases of a run with these parameters, the longest first (estimated work), and the
+// convergence runs among them.
+std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
   // The cases: the narrow channel under the chosen reading (Figures 3, 4), the other reading over
   // the first millisecond (the units evidence), the wide channel (Figure 5).
   std::vector<Job> jobs;
@@ -292,8 +297,6 @@ Results run(const Params& p) {
     jobs.push_back({"wide_" + p.membrane.units + "_" + tag(s), wide});
   }
   // Error against run time: short narrow-channel runs over h and Δt, both couplings.
-  struct ConvJob { std::string name, coupling; double h, dt; };
-  std::vector<ConvJob> conv;
   if (!p.quick && p.convergence)
     for (const auto& [coupling, table] : {std::pair{std::string("explicit"), p.conv_explicit},
                                           std::pair{std::string("semi-implicit"), p.conv_semi_implicit}})
@@ -312,74 +315,57 @@ Results run(const Params& p) {
           jobs.push_back({name, sc});
           conv.push_back({name, coupling, h, dt});
         }
-  if (!p.only.empty())
-    std::erase_if(jobs, [&](const Job& j) { return j.name.rfind(p.only, 0) != 0; });
-  // The longest first, two at a time with one thread each (the cases are independent), so that
-  // the last to start are short and both workers finish together.
+  // The longest first: GNU parallel (make reproduce) starts them in this order, so that the last
+  // to start are short and the cores finish together.
   std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return estimated_work(a.scene) > estimated_work(b.scene); });
-  Results res;
-  std::mutex lock;
-  std::size_t next = 0;
-  std::string failure;
-  int interrupted = 0;  // the signal that stopped the runs
-  auto worker = [&](int threads) {
-    for (;;) {
-      Job job;
-      {
-        std::lock_guard<std::mutex> g(lock);
-        if (next >= jobs.size() || !failure.empty()) return;
-        job = jobs[next++];
-      }
-      try {
-        const fs::path out = fs::path(p.out_dir) / job.name;
-        Case c;
-        c.name = job.name;
-        c.swelling_ratio = job.scene.cells[0].swelling_ratio;
-        c.units = job.scene.membrane_constants.units;
-        const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), job.scene) : std::nullopt;
-        const bool resume = p.resume && !done && fs::exists(out / "checkpoint.bin");
-        c.summary = done ? *done
-                         : run_scene(job.scene, {.out_dir = out.string(), .threads = threads, .progress = p.progress,
-                                                 .label = job.name, .resume = resume});
-        c.t = csv_column((out / "series.csv").string(), "t");
-        c.y = csv_column((out / "series.csv").string(), "cell0_y");
-        c.hematocrit0 = csv_column((out / "series.csv").string(), "hematocrit").front();
-        const double mid = 0.5 * job.scene.height;
-        for (std::size_t k = 0; k < c.t.size(); ++k)
-          if (std::abs(c.y[k] - mid) < p.centreline_band) { c.time_to_centreline = c.t[k]; break; }
-        if (fs::exists(out / "snapshots.dat")) write_centred_snapshots(out / "snapshots.dat", out / "snapshots_centred.dat");
-        std::lock_guard<std::mutex> g(lock);
-        res.cases[job.name] = c;
-      } catch (const RunInterrupted& e) {
-        std::lock_guard<std::mutex> g(lock);
-        std::fprintf(stderr, "%s: %s\n", job.name.c_str(), e.what());
-        interrupted = e.signal;
-        if (failure.empty()) failure = "interrupted";
-      } catch (const RunFailure& e) {
-        // An unstable case is reported, not hidden: its rows fail with the cause.
-        Case c;
-        c.name = job.name;
-        c.swelling_ratio = job.scene.cells[0].swelling_ratio;
-        c.units = job.scene.membrane_constants.units;
-        c.failure = e.what();
-        std::lock_guard<std::mutex> g(lock);
-        res.cases[job.name] = c;
-      } catch (const std::exception& e) {
-        std::lock_guard<std::mutex> g(lock);
-        failure = job.name + ": " + e.what();
-      }
-    }
-  };
-  if (p.threads > 0) worker(p.threads);
-  else {
-    std::thread a(worker, 1), b(worker, 1);
-    a.join();
-    b.join();
+  return jobs;
+}
+
+}  // namespace
+
+std::vector<std::string> case_names(const Params& p) {
+  std::vector<ConvJob> conv;
+  std::vector<std::string> names;
+  for (const Job& j : build_jobs(p, conv)) names.push_back(j.name);
+  return names;
+}
+
+Results run(const Params& p) {
+  std::vector<ConvJob> conv;
+  std::vector<Job> jobs = build_jobs(p, conv);
+  // --only: that case (an exact name from --list-cases), or every case whose name starts with it.
+  if (!p.only.empty()) {
+    const bool exact = std::any_of(jobs.begin(), jobs.end(), [&](const Job& j) { return j.name == p.only; });
+    std::erase_if(jobs, [&](const Job& j) { return exact ? j.name != p.only : j.name.rfind(p.only, 0) != 0; });
+    if (jobs.empty()) throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/single_cell_migration --list-cases lists them)");
   }
-  if (interrupted)
-    throw RunInterrupted("single_cell_migration: stopped by a signal after writing the checkpoints of the running cases; "
-                         "continue with the same command and --resume (add --reuse to read the finished cases)", interrupted);
-  if (!failure.empty()) throw RunFailure(failure);
+  // One case after the other, each with p.threads (0: every core); to run cases side by side,
+  // GNU parallel or a Slurm array runs them as separate processes (--list-cases, --only; the
+  // README), as make reproduce does.
+  Results res;
+  for (const Job& job : jobs) {
+    const fs::path out = fs::path(p.out_dir) / job.name;
+    Case c;
+    c.name = job.name;
+    c.swelling_ratio = job.scene.cells[0].swelling_ratio;
+    c.units = job.scene.membrane_constants.units;
+    // Run, or read back a finished or failed run (an unstable case is reported, not hidden: its
+    // rows fail with the cause). A signal stops the whole experiment (RunInterrupted).
+    const case_runner::CaseRun run = case_runner::run_or_reuse(
+        job.scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = job.name});
+    c.summary = run.summary;
+    c.failure = run.failure;
+    if (c.failure.empty()) {
+      c.t = csv_column((out / "series.csv").string(), "t");
+      c.y = csv_column((out / "series.csv").string(), "cell0_y");
+      c.hematocrit0 = csv_column((out / "series.csv").string(), "hematocrit").front();
+      const double mid = 0.5 * job.scene.height;
+      for (std::size_t k = 0; k < c.t.size(); ++k)
+        if (std::abs(c.y[k] - mid) < p.centreline_band) { c.time_to_centreline = c.t[k]; break; }
+      if (fs::exists(out / "snapshots.dat")) write_centred_snapshots(out / "snapshots.dat", out / "snapshots_centred.dat");
+    }
+    res.cases[job.name] = c;
+  }
   if (!conv.empty() && (p.only.empty() || std::string("conv").rfind(p.only, 0) == 0 || p.only.rfind("conv", 0) == 0))
     convergence_table(p, conv, res);
   if (!p.quick && p.re_convergence && p.only.empty()) re_evidence_table(p, res);

@@ -24,7 +24,7 @@ namespace rbc::single_cell_migration {
 struct Params {
   std::string out_dir = "results/single_cell_migration";
   bool quick = false;
-  int threads = 0;  // 0: run the cases two at a time, one thread each
+  int threads = 0;  // OpenMP threads of each case (0: every core); the cases run one after the other
   bool progress = true;
 
   // The study's parameters (Section 4.1) and our choices where it is silent.
@@ -68,7 +68,8 @@ struct Params {
       {0.5e-6, {1.2e-7, 6e-8, 3e-8}}, {0.25e-6, {6e-8, 3e-8, 1.5e-8}}, {0.125e-6, {2.4e-8, 1.2e-8, 6e-9}}};
   std::map<double, std::vector<double>> conv_semi_implicit = {
       {0.5e-6, {1.6e-6, 8e-7, 4e-7, 2e-7}}, {0.25e-6, {8e-7, 4e-7, 2e-7, 1e-7}}, {0.125e-6, {8e-7, 4e-7, 2e-7, 1e-7}}};
-  // Running a part: only the cases whose name starts with `only` ("wide", "narrow_si", …), and
+  // Running a part: only the case named `only` (a name from case_names), or the cases whose name
+  // starts with it ("wide", "narrow_si", …), and
   // reuse: a case whose output folder holds a finished run of the same scene is read, not rerun.
   std::string only;
   bool reuse = false;
@@ -112,5 +113,7 @@ struct Results {
 };
 
 Results run(const Params& params);
+// The names of the cases run(params) runs, the longest first (--list-cases, for GNU parallel).
+std::vector<std::string> case_names(const Params& params);
 
 }  // namespace rbc::single_cell_migration
