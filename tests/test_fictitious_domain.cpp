@@ -3,11 +3,13 @@
 // measured values with a stated margin (numbers in the comments, 2026-11-23).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <numeric>
 #include <sstream>
+#include <vector>
 
 #include "fictitious_domain/dlm_obstacle_step.hpp"
 #include "scene/run_scene.hpp"
@@ -41,6 +43,31 @@ double velocity_on_obstacles(const Simulation& sim) {
   return on / all;
 }
 
+// The CSV text `csv` reduced to the columns named in the header of `like`, in that order (fields
+// kept as written; a column missing from csv is left empty, so that the comparison fails).
+std::string only_columns_of(const std::string& csv, const std::string& like) {
+  auto split = [](const std::string& line) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    return f;
+  };
+  std::stringstream in(csv), want(like);
+  std::string header, wanted;
+  std::getline(in, header);
+  std::getline(want, wanted);
+  const std::vector<std::string> have = split(header), names = split(wanted);
+  std::vector<int> pick;
+  for (const std::string& n : names) pick.push_back(int(std::find(have.begin(), have.end(), n) - have.begin()));
+  std::string out = wanted + "\n";
+  for (std::string line; std::getline(in, line);) {
+    const std::vector<std::string> f = split(line);
+    for (std::size_t k = 0; k < pick.size(); ++k) out += (k ? "," : "") + (pick[k] < int(f.size()) ? f[pick[k]] : std::string());
+    out += "\n";
+  }
+  return out;
+}
+
 TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUnchangedBitForBit) {
   // tests/data/one_cell_narrow_*_series.csv: written by commit 9034e4e (before the fictitious
   // domain existed) from paper/method/scenes/single_cell_coarse.toml, 20 us, both couplings.
@@ -63,7 +90,8 @@ TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUncha
     };
     const std::string expected = slurp(fs::path(RBCFLOW_SOURCE_DIR) / "tests/data" / ("one_cell_narrow_" + std::string(coupling) + "_series.csv"));
     ASSERT_FALSE(expected.empty());
-    EXPECT_EQ(slurp(dir / "series.csv"), expected) << coupling;
+    // Columns added since (e.g. wall_gap_lower/upper) are left out: the recorded columns, as text.
+    EXPECT_EQ(only_columns_of(slurp(dir / "series.csv"), expected), expected) << coupling;
     fs::remove_all(dir);
   }
 }
