@@ -50,7 +50,18 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
     const double hct = 100.0 * c.cells * kSwellingRatio * std::numbers::pi * 2.8e-6 * 2.8e-6 / (s.length * s.height);
     EXPECT_NEAR(hct, c.cells == 50 ? 17.24 : 34.48, 0.005) << c.name;
     EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
+    // The membrane repulsion: on (range 2h) in the 100-cell cases and in n50_repulsion only.
+    const bool repelled = c.cells == 100 || c.name == "n50_repulsion";
+    EXPECT_EQ(s.repulsion_strength, repelled ? kRepulsionStrength : 0.0) << c.name;
+    if (repelled) EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * s.mesh_size) << c.name;
   }
+  // The quick 100-cell case too (at its own h).
+  Case q;
+  q.cells = 100;
+  q.repulsion = kRepulsionStrength;
+  const Scene s = case_scene(q, true);
+  EXPECT_DOUBLE_EQ(s.mesh_size, kQuickMesh);
+  EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * kQuickMesh);
 }
 
 TEST(CellFreeLayerExperiment, HematocritProfileOfKnownCirclesIsTheirChords) {

@@ -9,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
+
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
 
@@ -99,6 +101,11 @@ Scene case_scene(const Case& c, bool quick) {
     o.push_back("time.dt=" + num(c.dt));
     o.push_back("time.advection_substeps=" + std::to_string(q));
   }
+  if (c.repulsion > 0) {
+    const double mesh = h > 0 ? h : channel.mesh_size;
+    o.push_back("repulsion.range=" + num(kRepulsionRangeCells * mesh));
+    o.push_back("repulsion.strength=" + num(c.repulsion));
+  }
   Scene s = parse_scene(text.str(), kSceneFile, o);
   s.source = "cell_free_layer " + c.name + (quick ? " quick" : "");
   return s;
@@ -112,6 +119,7 @@ std::vector<Case> cases(const Params& p) {
     c.role = std::move(role);
     c.cells = n;
     c.seed = seed;
+    c.repulsion = n == 100 ? kRepulsionStrength : 0.0;  // the crowded cases only (the .hpp says why)
     return c;
   };
   // The longest first (GNU parallel starts them in this order): Δt halved, then 100 cells, 50.
@@ -126,12 +134,16 @@ std::vector<Case> cases(const Params& p) {
     if (!p.quick)
       for (unsigned s : p.seeds) v.push_back(make(base_name(n) + "_seed" + std::to_string(s), "ensemble", n, s));
   }
-  if (p.evidence && !p.quick)
+  if (p.evidence && !p.quick) {
     for (int n : {100, 50}) {
       Case c = make(base_name(n) + "_h0.625um", "evidence", n, 1);
       c.h = 0.625e-6;
       v.push_back(c);
     }
+    Case c = make("n50_repulsion", "evidence", 50, 1);  // the repulsion's effect on the rows
+    c.repulsion = kRepulsionStrength;
+    v.push_back(c);
+  }
   return v;
 }
 
@@ -187,6 +199,10 @@ CaseResult run_case(const Params& p, const Case& c) {
     if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
     return r;
   }
+  if (c.repulsion > 0 && fs::exists(out / "summary.json")) {
+    std::ifstream js(out / "summary.json");
+    r.repulsion_steps = nlohmann::json::parse(js).value("membrane_repulsion_steps", 0L);
+  }
   r.t = csv_column(series, "t");
   r.gap_lower = csv_column(series, "wall_gap_lower");
   r.gap_upper = csv_column(series, "wall_gap_upper");
@@ -228,8 +244,9 @@ std::string ensemble_table(const Params& p, const Results& res) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   std::ostringstream md;
   md << "Rows over the arrangements (seed 1: the study's case; the others: the ensemble), their mean and sample standard deviation s, "
-        "and the change of the study's case with Δt halved and with h doubled:\n\n"
-        "| row | seed 1 | other seeds | mean | s | Δt/2 − seed 1 | 2h − seed 1 |\n|---|---|---|---|---|---|---|\n";
+        "and the change of the study's case with Δt halved, with h doubled and (50 cells) with the 100-cell cases' membrane repulsion "
+        "switched on:\n\n"
+        "| row | seed 1 | other seeds | mean | s | Δt/2 − seed 1 | 2h − seed 1 | repulsion − seed 1 |\n|---|---|---|---|---|---|---|---|\n";
   struct Q { const char* label; double CaseResult::*field; double scale; };
   const Q qs[] = {{"cell-free layer, mean of the walls (um)", &CaseResult::layer, 1e6},
                   {"cell-free layer, lower wall (um)", &CaseResult::layer_lower, 1e6},
@@ -255,8 +272,8 @@ std::string ensemble_table(const Params& p, const Results& res) {
       }
       auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
       char row[400];
-      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %.3g | %+.3g | %+.3g |\n", n, q.label, v[0], others.c_str(), mean(v), sample_sd(v),
-                    change(base + "_dt1.5us"), change(base + "_h0.625um"));
+      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %.3g | %+.3g | %+.3g | %+.3g |\n", n, q.label, v[0], others.c_str(), mean(v),
+                    sample_sd(v), change(base + "_dt1.5us"), change(base + "_h0.625um"), change(base + "_repulsion"));
       md << row;
     }
   }
@@ -300,11 +317,11 @@ Results run(const Params& p) {
   }
   {
     std::ofstream f(fs::path(p.out_dir) / "cases.csv");
-    f << "case,role,cells,seed,h_um,dt_s,steps,wall_seconds,layer_um,layer_lower_um,layer_upper_um,hct_percent,reynolds,failure\n";
+    f << "case,role,cells,seed,h_um,dt_s,steps,wall_seconds,layer_um,layer_lower_um,layer_upper_um,hct_percent,reynolds,repulsion_N_per_m,repulsion_steps,failure\n";
     for (const auto& [name, r] : res.cases)
       f << name << "," << r.spec.role << "," << r.spec.cells << "," << r.spec.seed << "," << r.h * 1e6 << "," << r.dt << "," << r.summary.steps << ","
         << r.summary.wall_seconds << "," << r.layer * 1e6 << "," << r.layer_lower * 1e6 << "," << r.layer_upper * 1e6 << "," << r.hct << "," << r.re
-        << "," << (r.failure.empty() ? "" : "stopped") << "\n";
+        << "," << r.spec.repulsion << "," << r.repulsion_steps << "," << (r.failure.empty() ? "" : "stopped") << "\n";
   }
   if (p.quick)
     for (const auto& [name, r] : res.cases) {

@@ -33,6 +33,7 @@
 //   n50 n100                         the study's runs (seed 1)
 //   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
 //   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
+//   n50_repulsion                    the 50 cells with the 100-cell cases' membrane repulsion
 //
 // Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
 //       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
@@ -58,6 +59,12 @@ inline constexpr double kWindow = 1e-3;
 inline constexpr double kProfileWindow = 20e-3, kProfileEvery = 1e-3;
 // Quick case: h = 0.625 um, 3 ms.
 inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 3e-3;
+// The membrane repulsion of the 100-cell cases (lib/membrane/membrane_repulsion.hpp): strength,
+// N/m, and range in mesh cells. Without it the 100 cells reach a wall at 10.1 ms (Δt = 3e-6 s;
+// at 6e-6 s, 4.0 ms); with it they kept 0.50-0.70 um off the walls to 34.7 ms (measured
+// 2026-11-24, README.md). The 50 cells run without it (the study's model); n50_repulsion
+// measures its effect on their rows.
+inline constexpr double kRepulsionStrength = 1e-3, kRepulsionRangeCells = 2.0;
 
 struct Case {
   std::string name;
@@ -65,6 +72,7 @@ struct Case {
   int cells = 50;       // 50 or 100
   unsigned seed = 1;    // the arrangement's perturbation (0: the lattice itself)
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's (end: 150 ms for 50 cells, 200 ms for 100)
+  double repulsion = 0;           // N/m, range kRepulsionRangeCells h; 0: off
 };
 
 struct Params {
@@ -92,6 +100,7 @@ struct CaseResult {
   std::vector<double> t, gap_lower, gap_upper, hematocrit, reynolds;  // the samples (s, m, m, %, -)
   double layer_lower = 0, layer_upper = 0, layer = 0;  // m, over the last kWindow
   double hct = 0, re = 0;                               // %, -, same window
+  long repulsion_steps = 0;                             // steps in which the membrane repulsion acted (summary.json)
   std::vector<double> profile_y, profile;               // m, area fraction (0..1), over the last kProfileWindow
 };
 
