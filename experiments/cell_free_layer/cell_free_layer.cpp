@@ -283,14 +283,8 @@ std::string ensemble_table(const Params& p, const Results& res) {
 }  // namespace
 
 Results run(const Params& p) {
-  std::vector<Case> all = cases(p);
-  if (!p.only.empty()) {
-    std::erase_if(all, [&](const Case& c) { return c.name != p.only; });
-    if (all.empty()) throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/cell_free_layer --list-cases lists them)");
-  }
-  fs::create_directories(p.out_dir);
   Results res;
-  for (const Case& c : all) res.cases[c.name] = run_case(p, c);
+  res.cases = case_runner::run_selected(cases(p), p.only, "cell_free_layer", p.out_dir, [&](const Case& c) { return run_case(p, c); });
   if (!p.only.empty()) return res;
 
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };

@@ -11,8 +11,13 @@
 //   symmetric_unit a uniform number in [−1, 1) from a Mersenne twister's raw 32-bit output (the
 //                  same on every platform, unlike std::uniform_real_distribution): the ensembles'
 //                  perturbed starts;
-//   num            a number written back exactly (%.17g) into a scene override.
+//   num            a number written back exactly (%.17g) into a scene override;
+//   run_selected   runs an experiment's cases (or only the one --only names) one after the other.
+#include <algorithm>
+#include <filesystem>
+#include <map>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -39,5 +44,20 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
 double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from);
 double symmetric_unit(std::mt19937& g);
 std::string num(double v);
+
+// Runs every case of `all` (or only the one named `only`; an unknown name is an error pointing to
+// the experiment's --list-cases) with run_case, after creating out_dir; the results by case name.
+template <class Case, class RunCase>
+auto run_selected(std::vector<Case> all, const std::string& only, const std::string& experiment, const std::string& out_dir,
+                  RunCase run_case) {
+  if (!only.empty()) {
+    std::erase_if(all, [&](const Case& c) { return c.name != only; });
+    if (all.empty()) throw std::invalid_argument("--only " + only + ": no such case (build/bin/" + experiment + " --list-cases lists them)");
+  }
+  std::filesystem::create_directories(out_dir);
+  std::map<std::string, decltype(run_case(all.front()))> results;
+  for (const Case& c : all) results[c.name] = run_case(c);
+  return results;
+}
 
 }  // namespace rbc::case_runner

@@ -391,14 +391,8 @@ std::string convergence_table(const Params& p, const Results& res) {
 }  // namespace
 
 Results run(const Params& p) {
-  std::vector<Case> all = cases(p);
-  if (!p.only.empty()) {
-    std::erase_if(all, [&](const Case& c) { return c.name != p.only; });
-    if (all.empty()) throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/four_cells_vs_disks --list-cases lists them)");
-  }
-  fs::create_directories(p.out_dir);
   Results res;
-  for (const Case& c : all) res.cases[c.name] = run_case(p, c);
+  res.cases = case_runner::run_selected(cases(p), p.only, "four_cells_vs_disks", p.out_dir, [&](const Case& c) { return run_case(p, c); });
   if (!p.only.empty()) return res;  // a part: no comparison
 
   // The study's rows.
