@@ -49,11 +49,20 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
     ASSERT_EQ(int(s.cells.size()), c.cells) << c.name;
     const double hct = 100.0 * c.cells * kSwellingRatio * std::numbers::pi * 2.8e-6 * 2.8e-6 / (s.length * s.height);
     EXPECT_NEAR(hct, c.cells == 50 ? 17.24 : 34.48, 0.005) << c.name;
-    EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
+    if (c.role == "convergence") {  // from rest to the common horizon, the coupling and Δt named
+      EXPECT_NEAR(s.end, kConvTime - 0.5 * c.dt, 1e-15) << c.name;
+      EXPECT_EQ(s.coupling, c.coupling) << c.name;
+      EXPECT_EQ(s.dt, c.dt) << c.name;
+      EXPECT_NEAR(std::round(kConvTime / s.dt) * s.dt, kConvTime, 1e-9 * s.dt) << c.name;  // a whole number of steps
+    } else {
+      EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
+    }
     // The membrane repulsion: on (range 2h) in the 100-cell cases and in n50_repulsion only.
     const bool repelled = c.cells == 100 || c.name == "n50_repulsion";
     EXPECT_EQ(s.repulsion_strength, repelled ? kRepulsionStrength : 0.0) << c.name;
-    if (repelled) EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * s.mesh_size) << c.name;
+    if (repelled) {
+      EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * s.mesh_size) << c.name;
+    }
   }
   // The quick 100-cell case too (at its own h).
   Case q;

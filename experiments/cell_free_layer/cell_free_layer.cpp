@@ -43,7 +43,8 @@ std::vector<double> snapshot_times(int cells, double end, bool quick) {
   }
   const double window = quick ? end / 2 : kProfileWindow, every = quick ? end / 10 : kProfileEvery;
   const int n = int(std::lround(window / every));
-  for (int k = n; k >= 0; --k) t.push_back(end - k * every);
+  for (int k = n; k >= 0; --k)
+    if (end - k * every > 0) t.push_back(end - k * every);  // (a run shorter than the window: from its start)
   std::sort(t.begin(), t.end());
   t.erase(std::unique(t.begin(), t.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), t.end());
   return t;
@@ -101,6 +102,7 @@ Scene case_scene(const Case& c, bool quick) {
     o.push_back("time.dt=" + num(c.dt));
     o.push_back("time.advection_substeps=" + std::to_string(q));
   }
+  if (!c.coupling.empty()) o.push_back("time.coupling=\"" + c.coupling + "\"");
   if (c.repulsion > 0) {
     const double mesh = h > 0 ? h : channel.mesh_size;
     o.push_back("repulsion.range=" + num(kRepulsionRangeCells * mesh));
@@ -143,6 +145,26 @@ std::vector<Case> cases(const Params& p) {
     Case c = make("n50_repulsion", "evidence", 50, 1);  // the repulsion's effect on the rows
     c.repulsion = kRepulsionStrength;
     v.push_back(c);
+  }
+  if (p.convergence && !p.quick) {
+    // Explicit below its stability limit (6e-8 s for 100 cells at h = 0.3125 um: bench_channel),
+    // the semi-implicit coupling from twice the experiment's Δt down; the longest first.
+    struct Job { const char* coupling; double h; std::vector<double> dts; };
+    const Job jobs[] = {{"explicit", 0.3125e-6, {2.5e-8, 5e-8}},
+                        {"explicit", 0.625e-6, {5e-8, 1e-7}},
+                        {"semi-implicit", 0.3125e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}},
+                        {"semi-implicit", 0.625e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}}};
+    for (const Job& j : jobs)
+      for (double dt : j.dts) {
+        char name[96];
+        std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", std::string(j.coupling) == "explicit" ? "explicit" : "si", j.h * 1e6, dt);
+        Case c = make(name, "convergence", 50, 1);
+        c.coupling = j.coupling;
+        c.h = j.h;
+        c.dt = dt;
+        c.end = (std::round(kConvTime / dt) - 0.5) * dt;  // the run stops at the first step at or past end: step N
+        v.push_back(c);
+      }
   }
   return v;
 }
@@ -189,6 +211,7 @@ CaseResult run_case(const Params& p, const Case& c) {
   const Scene scene = case_scene(c, p.quick);
   r.h = scene.mesh_size;
   r.dt = scene.dt;
+  r.length = scene.length;
   const fs::path out = fs::path(p.out_dir) / c.name;
   const case_runner::CaseRun run = case_runner::run_or_reuse(
       scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = "cell_free_layer " + c.name});
@@ -204,6 +227,10 @@ CaseResult run_case(const Params& p, const Case& c) {
     r.repulsion_steps = nlohmann::json::parse(js).value("membrane_repulsion_steps", 0L);
   }
   r.t = csv_column(series, "t");
+  for (int k = 0; k < c.cells; ++k) {
+    const std::vector<double> x = csv_column(series, "cell" + std::to_string(k) + "_x"), y = csv_column(series, "cell" + std::to_string(k) + "_y");
+    r.centroids_end.emplace_back(x.back(), y.back());
+  }
   r.gap_lower = csv_column(series, "wall_gap_lower");
   r.gap_upper = csv_column(series, "wall_gap_upper");
   r.hematocrit = csv_column(series, "hematocrit");
@@ -280,6 +307,30 @@ std::string ensemble_table(const Params& p, const Results& res) {
   return md.str();
 }
 
+// The work-precision table (issue 17, item 5): RMS centroid error of the 50 cells at kConvTime
+// against the explicit run at h = 0.3125 um and the smallest Δt, and each run's wall time.
+std::string convergence_table(const Params& p, const Results& res) {
+  const CaseResult* ref = nullptr;
+  for (const auto& [name, r] : res.cases)
+    if (r.spec.role == "convergence" && r.failure.empty() && r.spec.coupling == "explicit" && r.h == 0.3125e-6 && (!ref || r.dt < ref->dt)) ref = &r;
+  std::vector<case_runner::ConvergenceRow> rows;
+  for (const auto& [name, r] : res.cases) {
+    if (r.spec.role != "convergence") continue;
+    case_runner::ConvergenceRow row{.kind = r.spec.coupling, .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
+                                    .failure = r.failure};
+    if (ref && r.failure.empty() && !r.centroids_end.empty())
+      std::tie(row.error, row.x2_error) = case_runner::centroid_error(r.centroids_end, ref->centroids_end, ref->length);
+    rows.push_back(row);
+  }
+  char intro[400];
+  std::snprintf(intro, sizeof intro,
+                "Error against run time (the study's 50 cells from rest to t = %g ms; error against the explicit run at h = 0.3125 um and the "
+                "smallest Δt): RMS over the 50 cells of the centroid distance and of its x2 part; wall time of each run (one thread, cases "
+                "run side by side).",
+                kConvTime * 1e3);
+  return case_runner::convergence_table(rows, (fs::path(p.out_dir) / "convergence.csv").string(), intro);
+}
+
 }  // namespace
 
 Results run(const Params& p) {
@@ -308,6 +359,10 @@ Results run(const Params& p) {
   if (!p.quick) {  // the quick run has one arrangement and no evidence runs
     res.ensemble_md = ensemble_table(p, res);
     std::ofstream(fs::path(p.out_dir) / "ensemble.md") << res.ensemble_md;
+  }
+  if (p.convergence && !p.quick) {
+    res.convergence_md = convergence_table(p, res);
+    std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_md;
   }
   {
     std::ofstream f(fs::path(p.out_dir) / "cases.csv");

@@ -34,6 +34,7 @@
 //   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
 //   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
 //   n50_repulsion                    the 50 cells with the 100-cell cases' membrane repulsion
+//   conv_*                           error against run time on a 1.2 ms horizon (50 cells)
 //
 // Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
 //       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
@@ -65,14 +66,19 @@ inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 3e-3;
 // 2026-11-24, README.md). The 50 cells run without it (the study's model); n50_repulsion
 // measures its effect on their rows.
 inline constexpr double kRepulsionStrength = 1e-3, kRepulsionRangeCells = 2.0;
+// Error against run time (issue 17, item 5): the study's 50 cells from rest to kConvTime (a whole
+// number of every Δt of the study), both couplings, h = 0.3125 and 0.625 um, Δt halved in turn;
+// the error of the 50 centroids against the explicit run at h = 0.3125 um and the smallest Δt.
+inline constexpr double kConvTime = 1.2e-3;
 
 struct Case {
   std::string name;
-  std::string role;     // "study", "ensemble", "evidence"
+  std::string role;     // "study", "ensemble", "evidence", "convergence"
   int cells = 50;       // 50 or 100
   unsigned seed = 1;    // the arrangement's perturbation (0: the lattice itself)
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's (end: 150 ms for 50 cells, 200 ms for 100)
   double repulsion = 0;           // N/m, range kRepulsionRangeCells h; 0: off
+  std::string coupling;           // "explicit" or "semi-implicit"; empty: the scene file's
 };
 
 struct Params {
@@ -85,6 +91,7 @@ struct Params {
   std::string only;
   std::vector<unsigned> seeds = {2, 3};  // the ensemble besides the study's seed 1
   bool evidence = true;
+  bool convergence = true;  // the 1.2 ms error-against-run-time runs
 };
 
 // The cells' centres of an arrangement of n cells (m), in the channel L x H.
@@ -94,13 +101,14 @@ Scene case_scene(const Case& c, bool quick);
 
 struct CaseResult {
   Case spec;
-  double h = 0, dt = 0;
+  double h = 0, dt = 0, length = 0;  // m, s, m (the channel's, periodic)
   RunSummary summary;
   std::string failure;
   std::vector<double> t, gap_lower, gap_upper, hematocrit, reynolds;  // the samples (s, m, m, %, -)
   double layer_lower = 0, layer_upper = 0, layer = 0;  // m, over the last kWindow
   double hct = 0, re = 0;                               // %, -, same window
   long repulsion_steps = 0;                             // steps in which the membrane repulsion acted (summary.json)
+  std::vector<Eigen::Vector2d> centroids_end;           // m, every cell's centroid at the last sample
   std::vector<double> profile_y, profile;               // m, area fraction (0..1), over the last kProfileWindow
 };
 
@@ -108,7 +116,8 @@ struct Results {
   std::map<std::string, CaseResult> cases;
   std::map<std::string, Measured> measured;
   std::map<std::string, Observed> quick_record;
-  std::string ensemble_md;  // every row's mean and spread over the arrangements, and the Δt/h changes
+  std::string ensemble_md;     // every row's mean and spread over the arrangements, and the Δt/h changes
+  std::string convergence_md;  // the work-precision table
 };
 
 Results run(const Params& p);

@@ -9,7 +9,7 @@
 
 int main(int argc, char** argv) {
   rbc::cell_free_layer::Params p;
-  bool check = false, record = false, list = false, no_evidence = false;
+  bool check = false, record = false, list = false, no_evidence = false, no_convergence = false;
   CLI::App app{"cell_free_layer: 50 and 100 cells (s* = 0.7) in the wide channel and the cell-free layer next to the walls"};
   std::string out;
   app.add_option("--out", out, "output folder (default results/cell_free_layer, with --quick results/cell_free_layer_quick)");
@@ -21,10 +21,12 @@ int main(int argc, char** argv) {
   app.add_flag("--resume", p.resume, "continue cases stopped by SIGINT/SIGTERM from their checkpoints");
   app.add_flag("--reuse", p.reuse, "read the cases finished in the output folder instead of running them again");
   app.add_flag("--no-evidence", no_evidence, "skip the runs with dt halved and h doubled");
+  app.add_flag("--no-convergence", no_convergence, "skip the 1.2 ms error-against-run-time runs");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/cell_free_layer_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
   p.evidence = !no_evidence;
+  p.convergence = !no_convergence;
   if (p.quick) p.out_dir = "results/cell_free_layer_quick";
   if (!out.empty()) p.out_dir = out;
   try {

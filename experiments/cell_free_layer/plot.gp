@@ -46,6 +46,7 @@ long = last_time('n50') > 100
 plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells', \
      dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells', \
      for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
+     dir.'/layer_n50_repulsion.dat' using 1:4 with lines lw 1 dt 3 lc 3 title '50 cells with the repulsion', \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
      '-' using (long ? $1 : 1/0):2 with points pt 6 ps 1.5 lc rgb 'black' title 'empirical 100/Hct (the study''s comparison)'
 150 6.24
@@ -62,3 +63,21 @@ set xlabel 'x_2 (um)'; set ylabel 'Hct(x_2) (%)'
 set xrange [0:H]; set yrange [0:*]
 plot dir.'/profile_n50.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
      dir.'/profile_n100.dat' using 1:2 with lines lw 2 lc 2 title '100 cells'
+
+# Error against run time (work-precision), full runs only: one line per coupling and h.
+conv = dir.'/convergence.csv'
+if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+  set terminal pngcairo size 800, 560 font ',11'
+  set output figdir.'/cell_free_layer_work_precision.png'
+  set datafile separator ','
+  set autoscale
+  set logscale xy
+  set format y '10^{%L}'
+  set title 'RMS error of the 50 centroids at 1.2 ms against wall time'
+  set xlabel 'wall time of the run (s)'
+  set ylabel 'RMS |x - x^{finest}| (um)'
+  set key bottom left inside
+  sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
+  plot for [h in "0.625 0.3125"] sel("semi-implicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
+       for [h in "0.625 0.3125"] sel("explicit", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um'
+}

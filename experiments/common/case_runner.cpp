@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
+#include <tuple>
 
 namespace rbc::case_runner {
 
@@ -28,6 +30,41 @@ double window_mean(const std::vector<double>& t, const std::vector<double>& v, d
       ++n;
     }
   return n ? s / n : NAN;
+}
+
+std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& ref, double L) {
+  double s = 0, sy = 0;
+  for (std::size_t b = 0; b < a.size() && b < ref.size(); ++b) {
+    double dx = a[b].x() - ref[b].x();
+    dx -= L * std::round(dx / L);
+    const double dy = a[b].y() - ref[b].y();
+    s += dx * dx + dy * dy;
+    sy += dy * dy;
+  }
+  const double n = double(std::min(a.size(), ref.size()));
+  return {std::sqrt(s / n), std::sqrt(sy / n)};
+}
+
+std::string convergence_table(std::vector<ConvergenceRow> rows, const std::string& csv_path, const std::string& intro) {
+  std::sort(rows.begin(), rows.end(), [](const ConvergenceRow& a, const ConvergenceRow& b) {
+    return std::tie(a.kind, b.h, b.dt) < std::tie(b.kind, a.h, a.dt);  // by kind, coarse to fine
+  });
+  std::ofstream csv(csv_path);
+  csv << "kind,h_um,dt_s,steps,wall_seconds,error_um,lateral_error_um,failure\n";
+  std::ostringstream md;
+  md << intro << "\n\n| bodies, coupling | h (um) | Δt (s) | steps | wall (s) | centroid error (um) | x2 error (um) |\n|---|---|---|---|---|---|---|\n";
+  for (const ConvergenceRow& r : rows) {
+    csv << r.kind << "," << r.h * 1e6 << "," << r.dt << "," << r.steps << "," << r.wall_seconds << "," << r.error * 1e6 << "," << r.x2_error * 1e6
+        << "," << (r.failure.empty() ? "" : "stopped") << "\n";
+    char line[400];
+    if (r.failure.empty())
+      std::snprintf(line, sizeof line, "| %s | %g | %.3g | %ld | %.1f | %.2e | %.2e |\n", r.kind.c_str(), r.h * 1e6, r.dt, r.steps, r.wall_seconds,
+                    r.error * 1e6, r.x2_error * 1e6);
+    else
+      std::snprintf(line, sizeof line, "| %s | %g | %.3g | - | - | stopped: %.150s | |\n", r.kind.c_str(), r.h * 1e6, r.dt, r.failure.c_str());
+    md << line;
+  }
+  return md.str();
 }
 
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o) {

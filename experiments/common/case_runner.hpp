@@ -12,7 +12,10 @@
 //                  same on every platform, unlike std::uniform_real_distribution): the ensembles'
 //                  perturbed starts;
 //   num            a number written back exactly (%.17g) into a scene override;
-//   run_selected   runs an experiment's cases (or only the one --only names) one after the other.
+//   run_selected   runs an experiment's cases (or only the one --only names) one after the other;
+//   centroid_error, convergence_table
+//                  the work-precision study (error against run time): the RMS distance of the
+//                  bodies' centroids from a reference run's, and the table and csv of the runs.
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -20,6 +23,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "scene/run_scene.hpp"
 
@@ -44,6 +49,23 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
 double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from);
 double symmetric_unit(std::mt19937& g);
 std::string num(double v);
+
+// RMS over the bodies of |c − ref| (x1 to the nearest periodic image, channel length L) and of its
+// x2 part; a and ref hold the same bodies in the same order. Returns {total, x2}.
+std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& ref, double L);
+
+// One run of a work-precision study: its kind ("explicit", "semi-implicit", ...), h (m), Δt (s),
+// steps, wall time (s), errors (m; NaN without a reference) and why it stopped (empty: it did not).
+struct ConvergenceRow {
+  std::string kind;
+  double h = 0, dt = 0;
+  long steps = 0;
+  double wall_seconds = 0, error = NAN, x2_error = NAN;
+  std::string failure;
+};
+// Writes csv_path (kind,h_um,dt_s,steps,wall_seconds,error_um,lateral_error_um,failure: plot.gp's
+// work-precision figure) and returns the markdown table, after `intro`, sorted by kind, h and Δt.
+std::string convergence_table(std::vector<ConvergenceRow> rows, const std::string& csv_path, const std::string& intro);
 
 // Runs every case of `all` (or only the one named `only`; an unknown name is an error pointing to
 // the experiment's --list-cases) with run_case, after creating out_dir; the results by case name.

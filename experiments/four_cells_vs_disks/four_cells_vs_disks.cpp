@@ -339,53 +339,39 @@ std::string spread_table(const Params& p, const Results& res) {
 // run of the same bodies (cells: the explicit one at h = 0.3125 um and the smallest Δt; disks: the
 // smallest Δt at h = 0.3125 um), its lateral part, and the wall time.
 std::string convergence_table(const Params& p, const Results& res) {
-  struct Row { const CaseResult* r; std::string kind; double error = NAN, lateral = NAN; };
-  std::vector<Row> rows;
+  struct Row { const CaseResult* r; std::string kind; };
+  std::vector<Row> runs;
   const CaseResult *ref_cells = nullptr, *ref_disks = nullptr;
   for (const auto& [name, r] : res.cases) {
     if (r.spec.role != "convergence") continue;
     const std::string kind = r.spec.disks ? "disks" : r.spec.coupling;
-    rows.push_back({&r, kind});
+    runs.push_back({&r, kind});
     if (!r.failure.empty() || r.spec.h != 0.3125e-6) continue;
     if (kind == "explicit" && (!ref_cells || r.spec.dt < ref_cells->spec.dt)) ref_cells = &r;
     if (kind == "disks" && (!ref_disks || r.spec.dt < ref_disks->spec.dt)) ref_disks = &r;
   }
-  std::ofstream csv(fs::path(p.out_dir) / "convergence.csv");
-  csv << "kind,h_um,dt_s,steps,wall_seconds,error_um,lateral_error_um,failure\n";
-  for (Row& row : rows) {
-    const CaseResult* ref = row.kind == "disks" ? ref_disks : ref_cells;
-    if (ref && row.r->failure.empty()) {
-      double s = 0, sy = 0;
-      for (int b = 0; b < 4; ++b) {
-        const double dx = periodic_gap(row.r->x.back()[b], ref->x.back()[b], ref->length), dy = row.r->y.back()[b] - ref->y.back()[b];
-        s += dx * dx + dy * dy;
-        sy += dy * dy;
-      }
-      row.error = std::sqrt(s / 4);
-      row.lateral = std::sqrt(sy / 4);
-    }
-    csv << row.kind << "," << row.r->spec.h * 1e6 << "," << row.r->spec.dt << "," << row.r->summary.steps << "," << row.r->summary.wall_seconds
-        << "," << row.error * 1e6 << "," << row.lateral * 1e6 << "," << (row.r->failure.empty() ? "" : "stopped") << "\n";
+  auto last = [](const CaseResult& r) {
+    std::vector<Eigen::Vector2d> c;
+    for (int b = 0; b < 4; ++b) c.emplace_back(r.x.back()[b], r.y.back()[b]);
+    return c;
+  };
+  std::vector<case_runner::ConvergenceRow> rows;
+  for (const Row& run : runs) {
+    const CaseResult& r = *run.r;
+    case_runner::ConvergenceRow row{.kind = run.kind, .h = r.spec.h, .dt = r.spec.dt, .steps = r.summary.steps,
+                                    .wall_seconds = r.summary.wall_seconds, .failure = r.failure};
+    const CaseResult* ref = run.kind == "disks" ? ref_disks : ref_cells;
+    if (ref && r.failure.empty()) std::tie(row.error, row.x2_error) = case_runner::centroid_error(last(r), last(*ref), ref->length);
+    rows.push_back(row);
   }
-  std::ostringstream md;
-  md << "Error against run time (from rest to t = " << kConvTime * 1e3 << " ms; cells: the 4 k_b cells, error against the explicit run at h = "
-        "0.3125 um and the smallest Δt; disks: against their own run at h = 0.3125 um and the smallest Δt). RMS over the 4 bodies of the "
-        "centroid distance and of its x2 part; wall time of each run (one thread, cases run side by side).\n\n"
-        "| bodies, coupling | h (um) | Δt (s) | steps | wall (s) | centroid error (um) | x2 error (um) |\n|---|---|---|---|---|---|---|\n";
-  std::sort(rows.begin(), rows.end(), [](const Row& a, const Row& b) {
-    return std::tie(a.kind, b.r->spec.h, b.r->spec.dt) < std::tie(b.kind, a.r->spec.h, a.r->spec.dt);
-  });
-  for (const Row& row : rows) {
-    char line[400];
-    if (row.r->failure.empty())
-      std::snprintf(line, sizeof line, "| %s | %g | %.3g | %ld | %.1f | %.2e | %.2e |\n", row.kind.c_str(), row.r->spec.h * 1e6, row.r->spec.dt,
-                    row.r->summary.steps, row.r->summary.wall_seconds, row.error * 1e6, row.lateral * 1e6);
-    else
-      std::snprintf(line, sizeof line, "| %s | %g | %.3g | - | - | stopped: %.150s | |\n", row.kind.c_str(), row.r->spec.h * 1e6, row.r->spec.dt,
-                    row.r->failure.c_str());
-    md << line;
-  }
-  return md.str();
+  char horizon[32];
+  std::snprintf(horizon, sizeof horizon, "%g", kConvTime * 1e3);
+  return case_runner::convergence_table(
+      rows, (fs::path(p.out_dir) / "convergence.csv").string(),
+      "Error against run time (from rest to t = " + std::string(horizon) +
+          " ms; cells: the 4 k_b cells, error against the explicit run at h = 0.3125 um and the smallest Δt; disks: against their own run at "
+          "h = 0.3125 um and the smallest Δt). RMS over the 4 bodies of the centroid distance and of its x2 part; wall time of each run (one "
+          "thread, cases run side by side).");
 }
 
 }  // namespace
