@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cell_free_layer/cell_free_layer.hpp"
 #include "four_cells_vs_disks/four_cells_vs_disks.hpp"
 #include "scene/simulation.hpp"
 
@@ -201,6 +202,20 @@ std::vector<Extreme> extremes(const Params& p) {
     s.end = std::ceil(end / s.dt) * s.dt;
     s.snapshots.clear();
     out.push_back(run_extreme("4 cells 1000 k_b, wide", "four_cells_vs_disks' 1000 k_b case at its dt (6 us), 100 x 50 um, h = 0.3125 um", s, p));
+  }
+  {
+    // Hct 34 % at the cell_free_layer experiment's own scheme (issue 17, item 5): its 100 s* = 0.7
+    // cells (seed 1) in the wide channel, h = 0.3125 um, semi-implicit, Δt = 3e-6 s, Q = 4, with
+    // the membrane repulsion of its 100-cell cases (cell_free_layer.hpp); from rest.
+    cell_free_layer::Case c;
+    c.name = "n100";
+    c.cells = 100;
+    c.repulsion = cell_free_layer::kRepulsionStrength;
+    Scene s = cell_free_layer::case_scene(c, false);
+    s.source = "stability_map cell_free_layer n100";
+    s.end = std::ceil(end / s.dt) * s.dt;
+    s.snapshots.clear();
+    out.push_back(run_extreme("100 cells Hct 34 %, wide", "cell_free_layer's 100 cells at its dt (3 us, repulsion 2h), 100 x 50 um, h = 0.3125 um", s, p));
   }
   return out;
 }
