@@ -1,5 +1,6 @@
 // The cell_free_layer experiment: its stated initial arrangement, the hematocrit profile it
-// draws, and its quick case (3 ms, h = 0.625 um) against the committed regression record.
+// draws, its quick case (3 ms, h = 0.625 um) against the committed regression record, and
+// collecting finished cases without running the others (--collect).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -133,6 +134,16 @@ TEST(CellFreeLayerExperiment, QuickRunMatchesItsRegressionRecord) {
   EXPECT_LT(r.cases.at("n100").re, r.cases.at("n50").re);
   EXPECT_LT(r.cases.at("n100").layer, r.cases.at("n50").layer);
   EXPECT_EQ(run_regression_check("cell_free_layer", r.quick_record, p.out_dir, std::cout), 0);
+  // --collect reads the finished cases back and runs none: with n100's folder gone, n50 comes back
+  // with the same numbers and n100 is left out (its rows "not run"), and no folder is made for it.
+  fs::remove_all(fs::path(p.out_dir) / "n100");
+  Params c = p;
+  c.collect = true;
+  const auto back = run(c);
+  ASSERT_EQ(back.cases.size(), 1u);
+  EXPECT_EQ(back.cases.at("n50").layer, r.cases.at("n50").layer);
+  EXPECT_EQ(back.cases.at("n50").re, r.cases.at("n50").re);
+  EXPECT_FALSE(fs::exists(fs::path(p.out_dir) / "n100"));
   fs::remove_all(p.out_dir);
 }
 

@@ -214,9 +214,10 @@ CaseResult run_case(const Params& p, const Case& c) {
   r.length = scene.length;
   const fs::path out = fs::path(p.out_dir) / c.name;
   const case_runner::CaseRun run = case_runner::run_or_reuse(
-      scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = "cell_free_layer " + c.name});
+      scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse || p.collect, .collect = p.collect, .label = "cell_free_layer " + c.name});
   r.summary = run.summary;
   r.failure = run.failure;
+  if (r.failure == case_runner::kNotRun) return r;
   const std::string series = (out / "series.csv").string();
   if (!fs::exists(series)) {
     if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
@@ -298,9 +299,16 @@ std::string ensemble_table(const Params& p, const Results& res) {
         others += b;
       }
       auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
-      char row[400];
-      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %.3g | %+.3g | %+.3g | %+.3g |\n", n, q.label, v[0], others.c_str(), mean(v),
-                    sample_sd(v), change(base + "_dt1.5us"), change(base + "_h0.625um"), change(base + "_repulsion"));
+      auto shown = [](double x, const char* format) {  // "-": the run is missing or stopped
+        char b[40];
+        if (std::isnan(x)) return std::string("-");
+        std::snprintf(b, sizeof b, format, x);
+        return std::string(b);
+      };
+      char row[600];
+      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %s | %s | %s | %s |\n", n, q.label, v[0], others.c_str(), mean(v),
+                    shown(sample_sd(v), "%.3g").c_str(), shown(change(base + "_dt1.5us"), "%+.3g").c_str(),
+                    shown(change(base + "_h0.625um"), "%+.3g").c_str(), shown(change(base + "_repulsion"), "%+.3g").c_str());
       md << row;
     }
   }
@@ -336,6 +344,7 @@ std::string convergence_table(const Params& p, const Results& res) {
 Results run(const Params& p) {
   Results res;
   res.cases = case_runner::run_selected(cases(p), p.only, "cell_free_layer", p.out_dir, [&](const Case& c) { return run_case(p, c); });
+  std::erase_if(res.cases, [](const auto& kv) { return kv.second.failure == case_runner::kNotRun; });  // --collect
   if (!p.only.empty()) return res;
 
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };

@@ -88,6 +88,7 @@ struct Params {
   bool progress = true;
   bool resume = false;
   bool reuse = false;
+  bool collect = false;  // read back the finished cases only; run none (the others "not run")
   std::string only;
   std::vector<unsigned> seeds = {2, 3};  // the ensemble besides the study's seed 1
   bool evidence = true;

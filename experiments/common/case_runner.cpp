@@ -82,6 +82,10 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
     const std::optional<RunSummary> done = o.reuse ? read_finished_run(out.string(), scene) : std::nullopt;
     const std::optional<std::string> stopped = o.reuse && !done ? read_failure() : std::nullopt;
     if (stopped) throw RunFailure(*stopped);
+    if (o.collect && !done) {
+      r.failure = kNotRun;
+      return r;
+    }
     fs::remove(failed);
     const bool resume = o.resume && !done && fs::exists(out / "checkpoint.bin");
     r.summary = done ? *done

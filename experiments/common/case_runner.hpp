@@ -40,8 +40,13 @@ struct CaseRunOptions {
   bool progress = true;
   bool resume = false;  // continue from the folder's checkpoint, if there is one
   bool reuse = false;   // read a finished (or failed) run of the same scene back
+  bool collect = false; // with reuse: never run; a case not finished (nor failed) is kNotRun
   std::string label;    // the progress line's name
 };
+
+// The failure of a case that --collect found neither finished nor stopped (still running elsewhere,
+// or not started): left out of the experiment's tables, which say "not run".
+inline const std::string kNotRun = "not run (--collect)";
 
 // Throws what run_scene throws except RunFailure (returned as the failure).
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o);

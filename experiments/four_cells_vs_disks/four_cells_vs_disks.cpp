@@ -192,9 +192,10 @@ CaseResult run_case(const Params& p, const Case& c) {
   const fs::path out = fs::path(p.out_dir) / c.name;
   // Run, or read back a finished or failed run (--reuse after GNU parallel's runs).
   const case_runner::CaseRun run = case_runner::run_or_reuse(scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume,
-                                                                       .reuse = p.reuse, .label = "four_cells_vs_disks " + c.name});
+                                                                       .reuse = p.reuse || p.collect, .collect = p.collect, .label = "four_cells_vs_disks " + c.name});
   r.summary = run.summary;
   r.failure = run.failure;
+  if (r.failure == case_runner::kNotRun) return r;
   const std::string series = (out / "series.csv").string();
   if (!fs::exists(series)) {
     if (r.failure.empty()) r.failure = "no series.csv in " + out.string();
@@ -379,6 +380,7 @@ std::string convergence_table(const Params& p, const Results& res) {
 Results run(const Params& p) {
   Results res;
   res.cases = case_runner::run_selected(cases(p), p.only, "four_cells_vs_disks", p.out_dir, [&](const Case& c) { return run_case(p, c); });
+  std::erase_if(res.cases, [](const auto& kv) { return kv.second.failure == case_runner::kNotRun; });  // --collect
   if (!p.only.empty()) return res;  // a part: no comparison
 
   // The study's rows.

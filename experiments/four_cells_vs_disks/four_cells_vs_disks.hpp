@@ -90,6 +90,7 @@ struct Params {
   bool progress = true;
   bool resume = false;   // a case whose folder holds a checkpoint continues from it
   bool reuse = false;    // a case whose folder holds a finished run of the same scene is read
+  bool collect = false;  // read back the finished cases only; run none (the others "not run")
   std::string only;      // run this case only (exact name), no comparison
   std::vector<unsigned> seeds = {1, 2, 3};
   bool evidence = true;     // the Δt-halved and h-doubled full runs
