@@ -43,10 +43,12 @@ set key outside bottom center horizontal maxcols 3
 # at least once, so the list must not be empty)
 ens = 'layer_n50.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
 long = last_time('n50') > 100
+rep = dir.'/layer_n50_repulsion.dat'  # the evidence run (full runs only)
+has_rep = system('test -f '.rep.' && echo 1 || echo 0') eq "1"
 plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells', \
      dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells', \
      for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
-     dir.'/layer_n50_repulsion.dat' using 1:4 with lines lw 1 dt 3 lc 3 title '50 cells with the repulsion', \
+     (has_rep ? rep : dir.'/layer_n50.dat') using 1:(has_rep ? $4 : 1/0) with lines lw 1 dt 3 lc 3 title (has_rep ? '50 cells with the repulsion' : ''), \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
      '-' using (long ? $1 : 1/0):2 with points pt 6 ps 1.5 lc rgb 'black' title 'empirical 100/Hct (the study''s comparison)'
 150 6.24
