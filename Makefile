@@ -10,6 +10,8 @@ FUZZ_SECONDS ?= 120
 JOBS       ?= $(shell nproc)
 QUICK      ?= 0
 REUSE      ?= 0    # 1: write the report from results/ already on disk (see paper/make_report.sh)
+ONLY       ?=      # "exp ...": run these experiments and rewrite their sections of the report only
+COLLECT    ?= 0    # 1 (with ONLY): run no case, write the sections from the cases finished so far
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev parallel
@@ -63,7 +65,7 @@ fuzz:
 
 reproduce: build
 	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi
-	QUICK=$(QUICK) REUSE=$(REUSE) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
+	QUICK=$(QUICK) REUSE=$(REUSE) ONLY="$(strip $(ONLY))" COLLECT=$(COLLECT) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
 
 bench: build
 	$(BUILD)/bin/bench_channel

@@ -2,7 +2,8 @@
 // the same grid, measured in the same run (machines are noisy; ratios travel better); then the
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
 // Then the constriction (issue 15): the same steps with and without the fictitious domain.
-//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only]
+//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only | --crowd-only]
+//                           [--crowd-steps N]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
 // transforms along x1 over the ny + 1 rows, which is what the fast solvers actually use.
@@ -21,6 +22,7 @@
 #include "fictitious_domain/dlm_obstacle_step.hpp"
 #include "scene/scene.hpp"
 #include "scene/simulation.hpp"
+#include "cell_free_layer/cell_free_layer.hpp"
 
 using clk = std::chrono::steady_clock;
 
@@ -256,17 +258,80 @@ static void bench_disks() {
   }
 }
 
+// The crowd of the cell_free_layer experiment (issue 17): its 100 s* = 0.7 cells (Hct 34 %,
+// arrangement seed 1, membrane repulsion on) at its own step, semi-implicit 3e-6 s, started from
+// the developed cell-free profile (the cells meet the full flow at once), 'steps' steps after 10
+// untimed ones. Prints the time per step, its ratio to an FFT pair of the grid, GMRES iterations
+// per step (mean, share above kRebuildAboveIterations, largest), the preconditioner's rebuilds
+// (blocks built per cell and step, their mean interval, steps that needed fresh blocks) and the
+// breakdown of the coupling's time.
+//
+// What it showed (2026-11-25, one thread, 600 steps): 32.3 ms a step (135 FFT pairs), 7.36
+// iterations, 1.8 % of the steps above 12, blocks rebuilt every 7.4 steps (7.1 ms a step, 22 %;
+// 52 ms a rebuild of 100 blocks against 2.0 ms a product with its sweep). The rebuild interval
+// stays short because the crowd's blocks do go stale that fast, not because of stray steps above
+// 12: a rule that rebuilt only once the iterations above the new blocks' baseline had cost as
+// much as a rebuild (the lagging rule of Newton-Krylov methods) let the interval grow to 10.5
+// steps and paid for it with 9.12 iterations, 17 % of the steps above 12, 6 steps that needed
+// fresh blocks and 35.3 ms a step (9 % slower); it was not kept.
+static void bench_crowd(int steps) {
+  const FftPairs f = fft_pairs(320, 160);
+  rbc::cell_free_layer::Case c;
+  c.name = "n100";
+  c.cells = 100;
+  c.seed = 1;
+  c.repulsion = rbc::cell_free_layer::kRepulsionStrength;
+  const rbc::Scene scene = rbc::cell_free_layer::case_scene(c, false);
+  std::printf("\nThe crowd: cell_free_layer's 100 cells (Hct 34 %%), semi-implicit at %.3g s, from the developed profile, %d steps (FFT pair 2D: %.1f us)\n",
+              scene.dt, steps, f.pair2d * 1e6);
+  constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
+  std::printf("%10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove, "it_max",
+              "blocks/step", "interval", "fresh_steps");
+  rbc::Simulation sim(scene);
+  sim.start_from_cell_free_profile();
+  for (int i = 0; i < 10; ++i) { sim.step(); sim.check_health(); }
+  const auto before = sim.semi_implicit_step()->cost();
+  long sum = 0, above = 0;
+  int most = 0;
+  const auto t0 = clk::now();
+  for (int i = 0; i < steps; ++i) {
+    sim.step();
+    sim.check_health();
+    const int it = sim.last_coupling_iterations();
+    sum += it;
+    above += it > kAbove;
+    most = std::max(most, it);
+  }
+  const double step = std::chrono::duration<double>(clk::now() - t0).count() / steps;
+  const auto& a = sim.semi_implicit_step()->cost();
+  const double n = double(a.steps - before.steps);
+  const double builds = double(a.block_builds - before.block_builds) / scene.cells.size();
+  std::printf("%10.0f %9.1f %9.1f %9.2f %9.1f%% %9d %12.3f %9.1f %12ld\n", step * 1e6, 1.0 / step, step / f.pair2d, double(sum) / steps,
+              100.0 * above / steps, most, builds / n, builds > 0 ? n / builds : 0.0, a.fresh_rebuilds - before.fresh_rebuilds);
+  std::printf("per step (us): predictor %.0f, blocks %.0f, coupled solve %.0f (%.2f products: %.0f, preconditioner sweeps: %.0f), correction %.0f\n",
+              (a.predictor - before.predictor) / n * 1e6, (a.blocks - before.blocks) / n * 1e6, (a.coupled - before.coupled) / n * 1e6,
+              (a.product_count - before.product_count) / n, (a.products - before.products) / n * 1e6,
+              (a.preconditioner - before.preconditioner) / n * 1e6, (a.correction - before.correction) / n * 1e6);
+}
+
 int main(int argc, char** argv) {
   int threads = 0;
-  bool cells_only = false, target_only = false, constriction_only = false, disks_only = false;
+  bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
+  int crowd_steps = 600;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
     if (std::string(argv[a]) == "--target-only") target_only = true;
     if (std::string(argv[a]) == "--constriction-only") constriction_only = true;
     if (std::string(argv[a]) == "--disks-only") disks_only = true;
+    if (std::string(argv[a]) == "--crowd-only") crowd_only = true;
+    if (std::string(argv[a]) == "--crowd-steps" && a + 1 < argc) crowd_steps = std::atoi(argv[a + 1]);
   }
   if (threads > 0) omp_set_num_threads(threads);
+  if (crowd_only) {
+    bench_crowd(crowd_steps);
+    return 0;
+  }
   if (disks_only) {
     bench_disks();
     return 0;
@@ -316,5 +381,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
+  bench_crowd(crowd_steps);
   return 0;
 }

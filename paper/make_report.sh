@@ -6,48 +6,47 @@
 # QUICK=1 (the CI parameters) to results/report/README.md, so that a quick run never overwrites
 # the committed full-parameter report. REUSE=1 reads the finished runs under results/ (the
 # experiments' --reuse) instead of running them again, and recomputes every verdict.
+#
+# Sections. Each experiment's section, its comparison (check.csv, from which the table of all the
+# study's numbers is made) and its provenance (command, commit, date) are kept in
+# <report>/data/<experiment>/, and the report is put together from them. ONLY="exp ..." runs
+# those experiments and rewrites their sections only, keeping the others as they were written
+# (each says by which run): the full reproduction takes longer than one working session on two
+# cores, and its parts are rerun where they changed. COLLECT=1 (with ONLY) runs no case and reads
+# the cases finished so far (the experiments' --collect; the others' rows say "not run").
 # Exit status: 0, or 1 if an experiment stopped with an error, a figure failed or a row FAILed.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${BUILD:-build}
 QUICK=${QUICK:-0}
+ONLY=${ONLY:-}
+COLLECT=${COLLECT:-0}
 results=results
 mkdir -p "$results"
 if [ "$QUICK" = "1" ]; then report=$results/report; else report=paper/report; fi
-mkdir -p "$report/figures"
+mkdir -p "$report/figures" "$report/data"
 quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
-command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ "${REUSE:-0}" = "1" ] && echo ' REUSE=1')"
+command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ "${REUSE:-0}" = "1" ] && echo ' REUSE=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
 commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 dirty=$(git status --porcelain -- . ':!paper/report' 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)  # the report itself does not count
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
+date_now=$(date -u '+%Y-%m-%d %H:%M UTC')
+parameters=$([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full (the study's)")
 
-out="$report/README.md.tmp"
-body="$report/body.md.tmp"
-{
-  echo "# rbcflow reproduction report"
-  echo
-  echo "Reproduction of L. Shi, T.-W. Pan, R. Glowinski, *Numerical simulation of lateral migration of red"
-  echo "blood cells in Poiseuille flows*, Int. J. Numer. Meth. Fluids 68 (2012), DOI 10.1002/fld.2455."
-  echo
-  echo "| | |"
-  echo "|---|---|"
-  echo "| command | \`$command\` |"
-  echo "| commit | $commit$dirty |"
-  echo "| date | $(date -u '+%Y-%m-%d %H:%M UTC') |"
-  echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB |"
-  echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo 'full (the study'"'"'s)') |"
-  echo
-  echo "Verdicts: **PASS** within the tolerance fixed before the comparison; **DEVIATION** outside it and"
-  echo "recorded in reference-data/deviations/ with our expected band, the cause we believe in and its"
-  echo "evidence; **FAIL** outside the tolerance and not explained, or a recorded deviation that moved."
-  echo "Each experiment's section below has its full table (with ours − study and the cause of every"
-  echo "deviation), the run time and the figures."
-  echo
-} > "$out"
-: > "$body"
+# The experiments this run writes: ONLY's (each must be one of the report's), or all of them.
+run_list=("$@")
+if [ -n "$ONLY" ]; then
+  run_list=()
+  for exp in $ONLY; do
+    case " $* " in *" $exp "*) run_list+=("$exp") ;; *) echo "rbcflow: ONLY names '$exp', not an experiment of the report (one of: $*)" >&2; exit 2 ;; esac
+  done
+fi
+if [ "$COLLECT" = "1" ] && [ -z "$ONLY" ]; then
+  echo "rbcflow: COLLECT=1 needs ONLY=\"experiment ...\" (it rewrites those sections from the cases finished so far)" >&2; exit 2
+fi
 
 status=0
-for exp in "$@"; do
+for exp in "${run_list[@]}"; do
   dir="$results/$exp"
   # REUSE=1: write the report from results already on disk (from the same experiment binary and
   # parameters), e.g. after a long run started by hand; the report says so.
@@ -59,7 +58,13 @@ for exp in "$@"; do
   # An experiment made of independent cases (--list-cases) runs them with GNU parallel, one
   # thread per case on every core, then collects them with --check --reuse (README.md: the same
   # commands spread the cases over machines or a Slurm array).
-  if "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--list-cases'; then
+  if [ "$COLLECT" = "1" ]; then
+    if "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--collect'; then
+      reuse_flag="--collect"; wall_note=" (with --collect: the cases finished on disk are read back and none is run; the tables say which were not run)"
+    else
+      reuse_flag="--reuse"; wall_note=" (with --reuse: cases finished on disk are read back, not run again)"
+    fi
+  elif "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--list-cases'; then
     mkdir -p "$dir"
     echo "rbcflow: running the cases of $exp $quick_flag with GNU parallel -j $(nproc)" >&2
     "$BUILD/bin/$exp" --list-cases $quick_flag | parallel --will-cite -j "$(nproc)" --joblog "$dir/joblog" \
@@ -75,11 +80,18 @@ for exp in "$@"; do
   wall="$(( $(date +%s) - start )) s$wall_note"
   [ "$rc" -ne 0 ] && status=1  # 1: a row FAILed (the table says which); 2 or more: the run stopped
   [ "$rc" -ge 2 ] && tail -3 "$dir.log" >&2
+  rm -f "$report/figures/${exp}"_*.png
   gnuplot -e "dir='$dir'; figdir='$report/figures'" "experiments/$exp/plot.gp" || status=1
+  data="$report/data/$exp"
+  mkdir -p "$data"
+  if [ -f "$dir/check.csv" ]; then cp "$dir/check.csv" "$data/check.csv"; else rm -f "$data/check.csv"; fi
+  echo "| $exp | \`$command\` | $commit$dirty | $date_now | $parameters |" > "$data/provenance.md"
   {
     echo "## $exp"
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
+    echo
+    echo "Written by \`$command\` at commit $commit$dirty, $date_now."
     echo
     echo "Run: \`$BUILD/bin/$exp --check $quick_flag $reuse_flag\` — wall time ${wall}, exit code $rc."
     if [ "${REUSE:-0}" = "1" ]; then
@@ -144,22 +156,58 @@ for exp in "$@"; do
     for fig in "$report/figures/${exp}"_*.png; do
       [ -f "$fig" ] && echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))" && echo
     done
-  } >> "$body"
+  } > "$data/section.md"
 done
 
+# The report, put together from every experiment's section as last written.
+out="$report/README.md.tmp"
 {
+  echo "# rbcflow reproduction report"
+  echo
+  echo "Reproduction of L. Shi, T.-W. Pan, R. Glowinski, *Numerical simulation of lateral migration of red"
+  echo "blood cells in Poiseuille flows*, Int. J. Numer. Meth. Fluids 68 (2012), DOI 10.1002/fld.2455."
+  echo
+  echo "| | |"
+  echo "|---|---|"
+  echo "| last command | \`$command\` |"
+  echo "| commit | $commit$dirty |"
+  echo "| date | $date_now |"
+  echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB |"
+  echo
+  echo "Each experiment's section was written by the run below (\`make reproduce ONLY=...\` rewrites"
+  echo "some sections and keeps the others; each section names its run again):"
+  echo
+  echo "| experiment | command | commit | date | parameters |"
+  echo "|---|---|---|---|---|"
+  for exp in "$@"; do
+    if [ -f "$report/data/$exp/provenance.md" ]; then cat "$report/data/$exp/provenance.md"; else echo "| $exp | (not run yet) | | | |"; fi
+  done
+  echo
+  echo "Verdicts: **PASS** within the tolerance fixed before the comparison; **DEVIATION** outside it and"
+  echo "recorded in reference-data/deviations/ with our expected band, the cause we believe in and its"
+  echo "evidence; **FAIL** outside the tolerance and not explained, or a recorded deviation that moved."
+  echo "Each experiment's section below has its full table (with ours − study and the cause of every"
+  echo "deviation), the run time and the figures."
+  echo
   echo "## All the study's numbers"
   echo
-  "$BUILD/bin/rbcflow" summary --results "$results" || { echo "(the summary table failed)"; status=1; }
+  "$BUILD/bin/rbcflow" summary --results "$report/data" || { echo "(the summary table failed)"; status=1; }
   echo
-  cat "$body"
-  echo "## Not yet reproduced"
-  echo
-  for exp in single_cell_migration four_cells_vs_disks cell_free_layer; do
-    [ -x "$BUILD/bin/$exp" ] || echo "- $exp: its published numbers are in reference-data/$exp.csv, checked when it lands."
+  for exp in "$@"; do
+    [ -f "$report/data/$exp/section.md" ] && cat "$report/data/$exp/section.md"
   done
-} >> "$out"
-rm -f "$body"
+  missing=""
+  for exp in single_cell_migration four_cells_vs_disks cell_free_layer constriction; do
+    [ -f "$report/data/$exp/check.csv" ] || missing="$missing $exp"
+  done
+  if [ -n "$missing" ]; then
+    echo "## Not yet reproduced"
+    echo
+    for exp in $missing; do
+      echo "- $exp: its published numbers are in reference-data/$exp.csv; no run of it is in this report yet."
+    done
+  fi
+} > "$out"
 mv "$out" "$report/README.md"
 echo "rbcflow: report written to $report/README.md" >&2
 exit $status
