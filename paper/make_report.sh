@@ -7,9 +7,9 @@
 # the committed full-parameter report. REUSE=1 reads the finished runs under results/ (the
 # experiments' --reuse) instead of running them again, and recomputes every verdict.
 #
-# Sections. Each experiment's section, its comparison (check.csv, from which the table of all the
-# study's numbers is made) and its provenance (command, commit, date) are kept in
-# <report>/data/<experiment>/, and the report is put together from them. ONLY="exp ..." runs
+# Sections. Each experiment's comparison (check.csv, from which the table of all the study's
+# numbers is made) and its provenance (command, commit, date) are kept in
+# <report>/data/<experiment>/, its section in the report itself. ONLY="exp ..." runs
 # those experiments and rewrites their sections only, keeping the others as they were written
 # (each says by which run): the full reproduction takes longer than one working session on two
 # cores, and its parts are rerun where they changed. COLLECT=1 (with ONLY) runs no case and reads
@@ -44,6 +44,8 @@ fi
 if [ "$COLLECT" = "1" ] && [ -z "$ONLY" ]; then
   echo "rbcflow: COLLECT=1 needs ONLY=\"experiment ...\" (it rewrites those sections from the cases finished so far)" >&2; exit 2
 fi
+sections=$(mktemp -d)  # this run's sections; the others are read from the report as it was
+trap 'rm -rf "$sections"' EXIT
 
 status=0
 for exp in "${run_list[@]}"; do
@@ -156,7 +158,7 @@ for exp in "${run_list[@]}"; do
     for fig in "$report/figures/${exp}"_*.png; do
       [ -f "$fig" ] && echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))" && echo
     done
-  } > "$data/section.md"
+  } > "$sections/$exp.md"
 done
 
 # The report, put together from every experiment's section as last written.
@@ -194,7 +196,10 @@ out="$report/README.md.tmp"
   "$BUILD/bin/rbcflow" summary --results "$report/data" || { echo "(the summary table failed)"; status=1; }
   echo
   for exp in "$@"; do
-    [ -f "$report/data/$exp/section.md" ] && cat "$report/data/$exp/section.md"
+    if [ -f "$sections/$exp.md" ]; then cat "$sections/$exp.md"
+    elif [ -f "$report/README.md" ]; then  # as last written: from its heading to the next section's
+      awk -v h="## $exp" '$0 == h {on = 1; print; next} on && /^## / {exit} on' "$report/README.md"
+    fi
   done
   missing=""
   for exp in single_cell_migration four_cells_vs_disks cell_free_layer constriction; do
