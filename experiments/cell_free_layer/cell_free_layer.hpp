@@ -123,6 +123,11 @@ struct Results {
 
 Results run(const Params& p);
 
+// The ensemble table (Markdown): every row over the arrangements, mean, sample standard deviation,
+// the Δt/2, 2h and repulsion runs' changes and the tolerance by the README's rule. Public for the
+// test of the rule.
+std::string ensemble_table(const Params& p, const Results& res);
+
 // The time-averaged area fraction of the membranes in snapshots.dat over t ≥ from, on bins of
 // width dy across 0 < x2 < H (bin centres in y, fractions 0..1); channel length L. Public for the
 // test (a known arrangement's profile integrates to its hematocrit).
