@@ -77,6 +77,7 @@ for exp in "${run_list[@]}"; do
     reuse_flag="--reuse"
   fi
   echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
+  rm -f "$dir/check.csv"  # a failed check leaves none, not an older run's
   "$BUILD/bin/$exp" --out "$dir" --check $quick_flag $reuse_flag > "$dir.log" 2>&1
   rc=$?
   wall="$(( $(date +%s) - start )) s$wall_note"
@@ -96,7 +97,7 @@ for exp in "${run_list[@]}"; do
     echo "Written by \`$command\` at commit $commit$dirty, $date_now."
     echo
     echo "Run: \`$BUILD/bin/$exp --check $quick_flag $reuse_flag\` — wall time ${wall}, exit code $rc."
-    if [ "${REUSE:-0}" = "1" ]; then
+    if [ "${REUSE:-0}" = "1" ] || [ "$COLLECT" = "1" ]; then
       # Provenance of runs read back: when they finished (their summary.json files' times, UTC).
       span=$(find "$dir" -name summary.json -printf '%TY-%Tm-%Td %TH:%TM\n' 2>/dev/null | sort | sed -n '1p;$p' | tr '\n' ' ')
       [ -n "$span" ] && echo "Runs on disk finished between (UTC, first and last): $span."
