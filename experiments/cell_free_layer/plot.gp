@@ -66,9 +66,10 @@ set xrange [0:H]; set yrange [0:*]
 plot dir.'/profile_n50.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
      dir.'/profile_n100.dat' using 1:2 with lines lw 2 lc 2 title '100 cells'
 
-# Error against run time (work-precision), full runs only: one line per coupling and h.
+# Error against run time (work-precision), full runs only: one line per coupling and h (drawn
+# when the table has a run with an error; a sweep collected before its conv_* cases has none).
 conv = dir.'/convergence.csv'
-if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 0)}' ".conv." || echo 0") eq "1") {
   set terminal pngcairo size 800, 560 font ',11'
   set output figdir.'/cell_free_layer_work_precision.png'
   set datafile separator ','
