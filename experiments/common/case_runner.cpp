@@ -64,6 +64,7 @@ std::string convergence_table(std::vector<ConvergenceRow> rows, const std::strin
       std::snprintf(line, sizeof line, "| %s | %g | %.3g | - | - | stopped: %.150s | |\n", r.kind.c_str(), r.h * 1e6, r.dt, r.failure.c_str());
     md << line;
   }
+  if (rows.empty()) md << "| (none of its runs finished: a sweep collected before its convergence cases) | | | | | | |\n";
   return md.str();
 }
 
