@@ -43,6 +43,21 @@ double velocity_on_obstacles(const Simulation& sim) {
   return on / all;
 }
 
+// The rows of CSV text after its header, as numbers.
+std::vector<std::vector<double>> numeric_rows(const std::string& csv) {
+  std::stringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> r;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) r.push_back(std::stod(x));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 // The CSV text `csv` reduced to the columns named in the header of `like`, in that order (fields
 // kept as written; a column missing from csv is left empty, so that the comparison fails).
 std::string only_columns_of(const std::string& csv, const std::string& like) {
@@ -68,7 +83,7 @@ std::string only_columns_of(const std::string& csv, const std::string& like) {
   return out;
 }
 
-TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUnchangedBitForBit) {
+TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUnchangedBitForBitOnTheDefaultInstructionSet) {
   // tests/data/one_cell_narrow_*_series.csv: written by commit 9034e4e (before the fictitious
   // domain existed) from paper/method/scenes/single_cell_coarse.toml, 20 us, both couplings.
   namespace fs = std::filesystem;
@@ -91,7 +106,34 @@ TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUncha
     const std::string expected = slurp(fs::path(RBCFLOW_SOURCE_DIR) / "tests/data" / ("one_cell_narrow_" + std::string(coupling) + "_series.csv"));
     ASSERT_FALSE(expected.empty());
     // Columns added since (e.g. wall_gap_lower/upper) are left out: the recorded columns, as text.
-    EXPECT_EQ(only_columns_of(slurp(dir / "series.csv"), expected), expected) << coupling;
+    // The record was written by a build for the compiler's default instruction set: a build for
+    // that set must give its bits; one for another set (CMakeLists.txt, RBCFLOW_ARCH) differs at
+    // round-off (fused multiply-adds), so there every value must agree within 1e-6 of its
+    // column's largest magnitude, 1e-4 for the two columns that are differences of nearly equal
+    // numbers (area drift, max strain). Measured with x86-64-v3, 2026-11-25: at most 1.0e-8 in
+    // the flow's columns, 3.3e-6 in area drift and 1.3e-5 in max strain.
+    const std::string ours = only_columns_of(slurp(dir / "series.csv"), expected);
+    if (std::string(RBCFLOW_INSTRUCTION_SET) == "none") {
+      EXPECT_EQ(ours, expected) << coupling;
+    } else {
+      const std::vector<std::vector<double>> a = numeric_rows(ours), b = numeric_rows(expected);
+      ASSERT_EQ(a.size(), b.size()) << coupling;
+      std::vector<std::string> names;
+      {
+        std::stringstream header(expected.substr(0, expected.find('\n')));
+        for (std::string x; std::getline(header, x, ',');) names.push_back(x);
+      }
+      for (std::size_t col = 0; col < b.front().size(); ++col) {
+        const bool difference = names[col].find("area_drift") != std::string::npos || names[col].find("max_strain") != std::string::npos;
+        const double relative = difference ? 1e-4 : 1e-6;
+        double scale = 0;
+        for (const auto& row : b) scale = std::max(scale, std::abs(row[col]));
+        for (std::size_t r = 0; r < b.size(); ++r) {
+          ASSERT_EQ(a[r].size(), b[r].size()) << coupling << " row " << r;
+          EXPECT_LE(std::abs(a[r][col] - b[r][col]), relative * scale) << coupling << " row " << r << " column " << names[col];
+        }
+      }
+    }
     fs::remove_all(dir);
   }
 }

@@ -470,6 +470,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["threads"] = omp_get_max_threads();
   j["scene"] = scene.source;
   j["version"] = RBCFLOW_VERSION;
+  j["instruction_set"] = RBCFLOW_INSTRUCTION_SET;  // results differ at round-off between sets (CMakeLists.txt)
   j["units"] = "SI: m, s, kg; velocities m/s, forces N/m^3, areas m^2, hematocrit %";
   std::ofstream(out / "summary.json") << j.dump(2) << "\n";
   return s;
