@@ -3,7 +3,7 @@
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
 // Then the constriction (issue 15): the same steps with and without the fictitious domain.
 //   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only | --crowd-only]
-//                           [--crowd-steps N]
+//                           [--crowd-steps N] [--crowd-from DIR]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
 // transforms along x1 over the ny + 1 rows, which is what the fast solvers actually use.
@@ -20,6 +20,7 @@
 
 #include "fluid/channel_flow.hpp"
 #include "fictitious_domain/dlm_obstacle_step.hpp"
+#include "scene/run_scene.hpp"
 #include "scene/scene.hpp"
 #include "scene/simulation.hpp"
 #include "cell_free_layer/cell_free_layer.hpp"
@@ -274,21 +275,31 @@ static void bench_disks() {
 // much as a rebuild (the lagging rule of Newton-Krylov methods) let the interval grow to 10.5
 // steps and paid for it with 9.12 iterations, 17 % of the steps above 12, 6 steps that needed
 // fresh blocks and 35.3 ms a step (9 % slower); it was not kept.
-static void bench_crowd(int steps) {
+// Built for x86-64-v3 (CMakeLists.txt, RBCFLOW_ARCH=auto; 2026-11-25, 300 steps, alone on the
+// machine): 26.0 ms a step on one thread (113 FFT pairs; blocks 5.6 ms, products 10.0 ms, sweeps
+// 2.8 ms), 16.7 ms on two (71.6 FFT pairs; blocks 2.9, products 6.3, sweeps 1.4): 1.56 times
+// faster on two threads, 7.41 iterations a step either way.
+// With --crowd-from DIR it starts instead from the newest checkpoint in DIR (a run's output
+// folder, e.g. results/cell_free_layer/n100 part way), to measure the steps of a later phase.
+static void bench_crowd(int steps, const std::string& from) {
   const FftPairs f = fft_pairs(320, 160);
   rbc::cell_free_layer::Case c;
   c.name = "n100";
   c.cells = 100;
   c.seed = 1;
   c.repulsion = rbc::cell_free_layer::kRepulsionStrength;
-  const rbc::Scene scene = rbc::cell_free_layer::case_scene(c, false);
-  std::printf("\nThe crowd: cell_free_layer's 100 cells (Hct 34 %%), semi-implicit at %.3g s, from the developed profile, %d steps (FFT pair 2D: %.1f us)\n",
-              scene.dt, steps, f.pair2d * 1e6);
+  const rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(c, false) : rbc::checkpoint_scene(from);
+  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, from %s, %d steps (FFT pair 2D: %.1f us)\n", scene.cells.size(),
+              scene.dt, from.empty() ? "the developed profile (cell_free_layer's n100)" : ("the checkpoint in " + from).c_str(), steps,
+              f.pair2d * 1e6);
   constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
   std::printf("%10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove, "it_max",
               "blocks/step", "interval", "fresh_steps");
   rbc::Simulation sim(scene);
-  sim.start_from_cell_free_profile();
+  if (from.empty())
+    sim.start_from_cell_free_profile();
+  else
+    rbc::load_checkpoint(from, sim);
   for (int i = 0; i < 10; ++i) { sim.step(); sim.check_health(); }
   const auto before = sim.semi_implicit_step()->cost();
   long sum = 0, above = 0;
@@ -318,6 +329,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
+  std::string crowd_from;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
@@ -326,10 +338,11 @@ int main(int argc, char** argv) {
     if (std::string(argv[a]) == "--disks-only") disks_only = true;
     if (std::string(argv[a]) == "--crowd-only") crowd_only = true;
     if (std::string(argv[a]) == "--crowd-steps" && a + 1 < argc) crowd_steps = std::atoi(argv[a + 1]);
+    if (std::string(argv[a]) == "--crowd-from" && a + 1 < argc) crowd_from = argv[a + 1];
   }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps);
+    bench_crowd(crowd_steps, crowd_from);
     return 0;
   }
   if (disks_only) {
@@ -381,6 +394,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps);
+  bench_crowd(crowd_steps, crowd_from);
   return 0;
 }

@@ -211,6 +211,12 @@ Scene checkpoint_scene(const std::string& dir) {
   }
 }
 
+void load_checkpoint(const std::string& dir, Simulation& sim) {
+  CheckpointReader r = open_checkpoint(dir);
+  read_header(r);
+  sim.load(r);
+}
+
 RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);

@@ -60,6 +60,11 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
 // The scene a checkpoint was written for (rbcflow resume DIR); throws CheckpointError.
 Scene checkpoint_scene(const std::string& dir);
 
+// The state of the newest checkpoint in dir loaded into sim, which must be built from
+// checkpoint_scene(dir) (for measurements that start mid-run, e.g. bench_channel --crowd-from);
+// throws CheckpointError.
+void load_checkpoint(const std::string& dir, Simulation& sim);
+
 // Creates dir (and parents) and checks that a file can be written in it; throws SceneError.
 void prepare_output_dir(const std::string& dir);
 
