@@ -323,6 +323,12 @@ static void bench_crowd(int steps, const std::string& from) {
               (a.predictor - before.predictor) / n * 1e6, (a.blocks - before.blocks) / n * 1e6, (a.coupled - before.coupled) / n * 1e6,
               (a.product_count - before.product_count) / n, (a.products - before.products) / n * 1e6,
               (a.preconditioner - before.preconditioner) / n * 1e6, (a.correction - before.correction) / n * 1e6);
+  const double products = double(a.product_count - before.product_count);
+  std::printf("per product (us): spreading %.0f, step-4 solve %.0f, projection %.0f, interpolation %.0f\n",
+              (a.product_spread - before.product_spread) / products * 1e6, (a.product_solve - before.product_solve) / products * 1e6,
+              (a.product_project - before.product_project) / products * 1e6,
+              ((a.products - before.products) - (a.product_spread - before.product_spread) - (a.product_solve - before.product_solve) -
+               (a.product_project - before.product_project)) / products * 1e6);
 }
 
 int main(int argc, char** argv) {

@@ -101,11 +101,16 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
         f2[k] += thread_rhs_[t - 1][size + k];
       }
   }
+  cost_.product_spread += seconds_since(t0);
   // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P.
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
+  const auto t1 = std::chrono::steady_clock::now();
   flow_.diffusion().force_response(response);
+  cost_.product_solve += seconds_since(t1);
+  const auto t2 = std::chrono::steady_clock::now();
   flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
+  cost_.product_project += seconds_since(t2);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v

@@ -71,6 +71,7 @@ class SemiImplicitMembraneStep {
     double blocks = 0;     // K of every cell; M_cc and the LU of the blocks when they are rebuilt
     double coupled = 0;    // GMRES: matrix-vector products (spread, solve, project, interpolate) and the rest
     double products = 0, preconditioner = 0;  // of which the products and the preconditioner's sweeps
+    double product_spread = 0, product_solve = 0, product_project = 0;  // the products' parts (the rest: interpolation)
     double correction = 0; // spreading −Δt K U
     long steps = 0, block_builds = 0, product_count = 0;
     long fresh_rebuilds = 0;  // steps whose GMRES needed blocks built at their own nodes
