@@ -43,6 +43,14 @@ double velocity_on_obstacles(const Simulation& sim) {
   return on / all;
 }
 
+// The fields of one CSV line.
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> f;
+  std::stringstream ss(line);
+  for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+  return f;
+}
+
 // The rows of CSV text after its header, as numbers.
 std::vector<std::vector<double>> numeric_rows(const std::string& csv) {
   std::stringstream in(csv);
@@ -51,8 +59,7 @@ std::vector<std::vector<double>> numeric_rows(const std::string& csv) {
   std::vector<std::vector<double>> rows;
   while (std::getline(in, line)) {
     std::vector<double> r;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) r.push_back(std::stod(x));
+    for (const std::string& x : split_csv_line(line)) r.push_back(std::stod(x));
     rows.push_back(r);
   }
   return rows;
@@ -61,22 +68,16 @@ std::vector<std::vector<double>> numeric_rows(const std::string& csv) {
 // The CSV text `csv` reduced to the columns named in the header of `like`, in that order (fields
 // kept as written; a column missing from csv is left empty, so that the comparison fails).
 std::string only_columns_of(const std::string& csv, const std::string& like) {
-  auto split = [](const std::string& line) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    return f;
-  };
   std::stringstream in(csv), want(like);
   std::string header, wanted;
   std::getline(in, header);
   std::getline(want, wanted);
-  const std::vector<std::string> have = split(header), names = split(wanted);
+  const std::vector<std::string> have = split_csv_line(header), names = split_csv_line(wanted);
   std::vector<int> pick;
   for (const std::string& n : names) pick.push_back(int(std::find(have.begin(), have.end(), n) - have.begin()));
   std::string out = wanted + "\n";
   for (std::string line; std::getline(in, line);) {
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = split_csv_line(line);
     for (std::size_t k = 0; k < pick.size(); ++k) out += (k ? "," : "") + (pick[k] < int(f.size()) ? f[pick[k]] : std::string());
     out += "\n";
   }
@@ -118,11 +119,7 @@ TEST(FictitiousDomain, SceneWithoutObstaclesBuildsNoneAndItsOneCellSeriesIsUncha
     } else {
       const std::vector<std::vector<double>> a = numeric_rows(ours), b = numeric_rows(expected);
       ASSERT_EQ(a.size(), b.size()) << coupling;
-      std::vector<std::string> names;
-      {
-        std::stringstream header(expected.substr(0, expected.find('\n')));
-        for (std::string x; std::getline(header, x, ',');) names.push_back(x);
-      }
+      const std::vector<std::string> names = split_csv_line(expected.substr(0, expected.find('\n')));
       for (std::size_t col = 0; col < b.front().size(); ++col) {
         const bool difference = names[col].find("area_drift") != std::string::npos || names[col].find("max_strain") != std::string::npos;
         const double relative = difference ? 1e-4 : 1e-6;
