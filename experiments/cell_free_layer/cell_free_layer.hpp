@@ -33,6 +33,7 @@
 //   n50 n100                         the study's runs (seed 1)
 //   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
 //   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
+//   n100_dt0.75us                    Δt quartered for 100 cells (is the layer converged in Δt?)
 //   n50_repulsion                    the 50 cells with the 100-cell cases' membrane repulsion
 //   conv_*                           error against run time on a 1.2 ms horizon (50 cells)
 //
