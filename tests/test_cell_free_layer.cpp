@@ -42,6 +42,17 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
     }
   }
   EXPECT_THROW(arrangement(55, 1, L, H), std::invalid_argument);
+  // A margin spreads the same rows over margin < x2 < H − margin (n100_wide_gaps): the lowest and
+  // highest rows 0.9 margin further in, the columns and the seed's shifts unchanged.
+  {
+    const auto plain = arrangement(100, 1, L, H), wide = arrangement(100, 1, L, H, kWideGapMargin);
+    EXPECT_EQ(plain, arrangement(100, 1, L, H, 0.0));
+    for (int k = 0; k < 100; ++k) {
+      const int r = k / kColumns;
+      EXPECT_DOUBLE_EQ(wide[k].x(), plain[k].x());
+      EXPECT_NEAR(wide[k].y() - plain[k].y(), kWideGapMargin * (1 - (2 * r + 1) / 10.0), 1e-15);
+    }
+  }
   // Every case's scene parses: the cells inside the channel and apart (scene validation), the
   // study's hematocrit from the cells' target areas (s* π R0² each).
   Params p;
