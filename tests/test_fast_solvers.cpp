@@ -84,6 +84,30 @@ TEST(FastSolvers, ThePairSolveGivesEachFieldBitForBitAsTheSingleSolve) {
   EXPECT_EQ(p1, x1);
   EXPECT_EQ(p2, x2);
   EXPECT_NE(x1, x2);
+  EXPECT_TRUE(solver.real_symbol());  // symmetric in x1: the real path
+}
+
+TEST(FastSolvers, AnOperatorNotSymmetricInX1TakesTheComplexPathAndStillSolves) {
+  // Step 4's operator plus an upwind-like x1 difference (a(1) ≠ a(−1)): a complex symbol.
+  const int nx = 16, rows = 7;
+  auto apply = [=](const std::vector<double>& in, std::vector<double>& out) {
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < nx; ++i) {
+        double s = 5.0 * in[r * nx + i] - 1.5 * in[r * nx + (i + 1) % nx] - 0.5 * in[r * nx + (i + nx - 1) % nx];
+        if (r > 0) s -= in[(r - 1) * nx + i];
+        if (r + 1 < rows) s -= in[(r + 1) * nx + i];
+        out[r * nx + i] = s;
+      }
+  };
+  PeriodicBandedSolver solver(nx, rows, apply, false);
+  EXPECT_FALSE(solver.real_symbol());
+  const std::vector<double> b = random_vector(std::size_t(nx) * rows, 4);
+  std::vector<double> x(b.size()), r(b.size());
+  solver.solve(b.data(), x.data());
+  apply(x, r);
+  double e = 0;
+  for (std::size_t k = 0; k < b.size(); ++k) e = std::max(e, std::abs(r[k] - b[k]));
+  EXPECT_LT(e, 1e-13);
 }
 
 TEST(FastSolvers, SchurComplementSolveMatchesSparseLUUpToTheConstant) {

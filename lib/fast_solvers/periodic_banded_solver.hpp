@@ -7,7 +7,9 @@
 // where a_{j,j'}(d) is the response in row j, column d, to a unit value at (0, j').
 // We read the symbol off A itself by applying it once to a unit value in each row of column 0
 // (a "probe"), factor every Â_k (Hermitian and banded) by LU once, and then each solve costs one
-// real FFT pair in x1 plus nx/2+1 banded triangular solves. With OpenMP the rows' transforms
+// real FFT pair in x1 plus nx/2+1 banded triangular solves. An operator symmetric in x1
+// (a_{j,j'}(d) = a_{j,j'}(−d) for every tap, as step 4's) has a real symbol; its substitutions
+// multiply by reals only. With OpenMP the rows' transforms
 // and the modes' substitutions are shared between threads (each mode and row is computed the
 // same way whatever the thread count, so the result does not depend on it).
 //
@@ -38,6 +40,8 @@ class PeriodicBandedSolver {
   // result is the same, bit for bit, as solve() gives it (same plans, same operations).
   void solve_pair(const double* b1, const double* b2, double* x1, double* x2);
   int half_bandwidth() const { return band_; }
+  // Every factor real (an operator symmetric in x1): the substitutions multiply by reals only.
+  bool real_symbol() const { return real_symbol_; }
   int nx() const { return nx_; }
   int rows() const { return rows_; }
 
@@ -49,6 +53,7 @@ class PeriodicBandedSolver {
   // are contiguous (real and imaginary parts apart), so the substitutions run over all modes at
   // once in unit stride; the diagonal holds 1/pivot.
   std::vector<double> fre_, fim_;
+  bool real_symbol_ = false;
   double* real_ = nullptr;
   fftw_complex* spec_ = nullptr;
   double* real2_ = nullptr;  // the second field of solve_pair (same alignment: the plans run on it too)
