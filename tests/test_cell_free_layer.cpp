@@ -66,6 +66,10 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
       EXPECT_EQ(s.coupling, c.coupling) << c.name;
       EXPECT_EQ(s.dt, c.dt) << c.name;
       EXPECT_NEAR(std::round(kConvTime / s.dt) * s.dt, kConvTime, 1e-9 * s.dt) << c.name;  // a whole number of steps
+    } else if (c.name == "n100_explicit_early") {  // the study's coupling below its limit, to kEarlyEnd
+      EXPECT_EQ(s.end, kEarlyEnd);
+      EXPECT_EQ(s.coupling, "explicit");
+      EXPECT_EQ(s.dt, kExplicitDt);
     } else {
       EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
     }
@@ -151,6 +155,34 @@ TEST(CellFreeLayerExperiment, EnsembleTableAppliesTheToleranceRule) {
   // s of {5.0, 5.4, 4.6} = 0.4; 2 * 0.4 + 0.3 + 0.9 / 3 = 1.4.
   EXPECT_EQ(layer_row(), "1.4 |");
   EXPECT_NE(ensemble_table(p, res).find("| 50 cells: Hct (%) |"), std::string::npos);
+}
+
+// The early-layer table averages the two walls' gaps over its windows, leaves out runs that
+// stopped or ended before a window's end, and is empty without any of its runs.
+TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
+  Results res;
+  EXPECT_EQ(early_layer_table(res), "");
+  auto put = [&](const std::string& name, double end, double gap_um) {
+    CaseResult r;
+    for (double t = 0; t <= end + 1e-12; t += 1e-4) {
+      r.t.push_back(t);
+      r.gap_lower.push_back((gap_um - 0.5) * 1e-6);  // the mean of the walls is gap_um
+      r.gap_upper.push_back((gap_um + 0.5) * 1e-6);
+    }
+    res.cases[name] = r;
+  };
+  put("n100_explicit_early", kEarlyEnd, 2.0);
+  put("n100", 0.2, 0.5);
+  put("n100_dt1.5us", 1.5e-3, 1.0);  // ended before the second window: "-" there
+  put("conv_si_h0.3125_dt3e-06", kConvTime, 2.5);
+  res.cases["n100_dt0.75us"] = res.cases["n100"];
+  res.cases["n100_dt0.75us"].failure = "stopped";  // left out
+  const std::string md = early_layer_table(res);
+  EXPECT_NE(md.find("| 100 | explicit (the study's) | 0.05 | 2.000 | 2.000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | semi-implicit | 3 (the study's case) | 0.500 | 0.500 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | semi-implicit | 1.5 | 1.000 | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 50 | semi-implicit | 3 (the study's case) | 2.500 | - |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| 0.75 |"), std::string::npos) << md;
 }
 
 TEST(CellFreeLayerExperiment, QuickRunMatchesItsRegressionRecord) {
