@@ -283,6 +283,14 @@ double sample_sd(const std::vector<double>& v) {
   return std::sqrt(s / (v.size() - 1));
 }
 
+// A table cell: x in the printf format, "-" for NaN (the run is missing or stopped).
+std::string shown(double x, const char* format) {
+  char b[40];
+  if (std::isnan(x)) return "-";
+  std::snprintf(b, sizeof b, format, x);
+  return b;
+}
+
 }  // namespace
 
 // Every row's value over the arrangements (the study's seed and the ensemble's), their mean and
@@ -320,12 +328,6 @@ std::string ensemble_table(const Params& p, const Results& res) {
         others += b;
       }
       auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
-      auto shown = [](double x, const char* format) {  // "-": the run is missing or stopped
-        char b[40];
-        if (std::isnan(x)) return std::string("-");
-        std::snprintf(b, sizeof b, format, x);
-        return std::string(b);
-      };
       // The rule: the start's spread (all the arrangements) plus the Δt error (first order: the
       // Δt/2 run's change) plus the h error (second order: a third of the 2h run's change).
       const bool all = v.size() == 1 + p.seeds.size();
@@ -382,12 +384,8 @@ std::string early_layer_table(const Results& res) {
             "| cells | coupling | dt (us) | layer " << kConvTime / 2 * 1e3 << "-" << kConvTime * 1e3 << " ms | layer " << kEarlyFrom * 1e3 << "-"
          << kEarlyEnd * 1e3 << " ms |\n|---|---|---|---|---|\n";
     any = true;
-    auto shown = [](double x) {
-      char b[32];
-      std::snprintf(b, sizeof b, "%.3f", x * 1e6);
-      return std::isnan(x) ? std::string("-") : std::string(b);
-    };
-    md << "| " << r.cells << " | " << r.coupling << " | " << r.dt << " | " << shown(first) << " | " << shown(second) << " |\n";
+    md << "| " << r.cells << " | " << r.coupling << " | " << r.dt << " | " << shown(first * 1e6, "%.3f") << " | " << shown(second * 1e6, "%.3f")
+       << " |\n";
   }
   return any ? md.str() : std::string();
 }
