@@ -103,6 +103,7 @@ Scene case_scene(const Case& c, bool quick) {
     o.push_back("time.advection_substeps=" + std::to_string(q));
   }
   if (!c.coupling.empty()) o.push_back("time.coupling=\"" + c.coupling + "\"");
+  if (!c.projection.empty()) o.push_back("time.projection=\"" + c.projection + "\"");
   if (c.repulsion > 0) {
     const double mesh = h > 0 ? h : channel.mesh_size;
     o.push_back("repulsion.range=" + num(kRepulsionRangeCells * mesh));
@@ -127,6 +128,11 @@ std::vector<Case> cases(const Params& p) {
   // The longest first (GNU parallel starts them in this order): Δt quartered (100 cells, whose
   // layer moved most with Δt/2: README.md), Δt halved, then 100 cells, 50.
   if (p.evidence && !p.quick) {
+    for (int n : {100, 50}) {  // the pressure's splitting (README.md, Deviations)
+      Case c = make(base_name(n) + "_incremental", "evidence", n, 1);
+      c.projection = "incremental";
+      v.push_back(c);
+    }
     Case quarter = make(base_name(100) + "_dt0.75us", "evidence", 100, 1);
     quarter.dt = 0.75e-6;
     v.push_back(quarter);
@@ -166,17 +172,23 @@ std::vector<Case> cases(const Params& p) {
     // the semi-implicit coupling from twice the experiment's Δt down, at h = 0.3125 um down to the
     // explicit run's own Δt (the two couplings must then agree: the early-layer table); the
     // longest first.
-    struct Job { const char* coupling; double h; std::vector<double> dts; };
+    // Both again with the incremental pressure (step 1 finds the increment only; README.md,
+    // Deviations): "_inc" in the name.
+    struct Job { const char* coupling; double h; std::vector<double> dts; bool incremental = false; };
     const Job jobs[] = {{"explicit", 0.3125e-6, {2.5e-8, 5e-8}},
                         {"explicit", 0.625e-6, {5e-8, 1e-7}},
+                        {"explicit", 0.3125e-6, {5e-8}, true},
                         {"semi-implicit", 0.3125e-6, {5e-8, 2e-7, 7.5e-7, 1.5e-6, 3e-6, 6e-6}},
+                        {"semi-implicit", 0.3125e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}, true},
                         {"semi-implicit", 0.625e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}}};
     for (const Job& j : jobs)
       for (double dt : j.dts) {
         char name[96];
-        std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", std::string(j.coupling) == "explicit" ? "explicit" : "si", j.h * 1e6, dt);
+        std::snprintf(name, sizeof name, "conv_%s%s_h%g_dt%g", std::string(j.coupling) == "explicit" ? "explicit" : "si", j.incremental ? "_inc" : "",
+                      j.h * 1e6, dt);
         Case c = make(name, "convergence", 50, 1);
         c.coupling = j.coupling;
+        if (j.incremental) c.projection = "incremental";
         c.h = j.h;
         c.dt = dt;
         c.end = (std::round(kConvTime / dt) - 0.5) * dt;  // the run stops at the first step at or past end: step N
@@ -299,11 +311,11 @@ std::string ensemble_table(const Params& p, const Results& res) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   std::ostringstream md;
   md << "Rows over the arrangements (seed 1: the study's case; the others: the ensemble), their mean and sample standard deviation s, "
-        "and the change of the study's case with Δt halved, (100 cells) with Δt quartered, (100 cells) started about 2.9 um off the walls, with h doubled and (50 cells) with the 100-cell cases' membrane repulsion "
+        "and the change of the study's case with Δt halved, (100 cells) with Δt quartered, with the incremental pressure (step 1 finding only the increment: README.md, Deviations), (100 cells) started about 2.9 um off the walls, with h doubled and (50 cells) with the 100-cell cases' membrane repulsion "
         "switched on; the tolerance these give by the rule fixed before the first comparison (README.md), 2 s + |Δt/2 − seed 1| + "
         "|2h − seed 1|/3, once all three arrangements and both evidence runs are in (Hct keeps its geometric tolerance):\n\n"
-        "| row | seed 1 | other seeds | mean | s | Δt/2 − seed 1 | Δt/4 − seed 1 | wide gaps − seed 1 | 2h − seed 1 | repulsion − seed 1 | tolerance by the rule |\n"
-        "|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "| row | seed 1 | other seeds | mean | s | Δt/2 − seed 1 | Δt/4 − seed 1 | incremental p − seed 1 | wide gaps − seed 1 | 2h − seed 1 | repulsion − seed 1 | tolerance by the rule |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   struct Q { const char* label; double CaseResult::*field; double scale; };
   const Q qs[] = {{"cell-free layer, mean of the walls (um)", &CaseResult::layer, 1e6},
                   {"cell-free layer, lower wall (um)", &CaseResult::layer_lower, 1e6},
@@ -334,9 +346,10 @@ std::string ensemble_table(const Params& p, const Results& res) {
       const double rule = all ? 2 * sample_sd(v) + std::abs(change(base + "_dt1.5us")) + std::abs(change(base + "_h0.625um")) / 3 : NAN;
       const std::string tolerance = q.field == &CaseResult::hct ? std::string("(geometric)") : shown(rule, "%.3g");
       char row[700];
-      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %s | %s | %s | %s | %s | %s | %s |\n", n, q.label, v[0], others.c_str(), mean(v),
-                    shown(sample_sd(v), "%.3g").c_str(), shown(change(base + "_dt1.5us"), "%+.3g").c_str(),
-                    shown(change(base + "_dt0.75us"), "%+.3g").c_str(), shown(change(base + "_wide_gaps"), "%+.3g").c_str(),
+      std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %s | %s | %s | %s | %s | %s | %s | %s |\n", n, q.label, v[0], others.c_str(),
+                    mean(v), shown(sample_sd(v), "%.3g").c_str(), shown(change(base + "_dt1.5us"), "%+.3g").c_str(),
+                    shown(change(base + "_dt0.75us"), "%+.3g").c_str(), shown(change(base + "_incremental"), "%+.3g").c_str(),
+                    shown(change(base + "_wide_gaps"), "%+.3g").c_str(),
                     shown(change(base + "_h0.625um"), "%+.3g").c_str(), shown(change(base + "_repulsion"), "%+.3g").c_str(), tolerance.c_str());
       md << row;
     }
@@ -369,10 +382,16 @@ std::string early_layer_table(const Results& res) {
                       {"conv_si_h0.3125_dt1.5e-06", 50, "semi-implicit", "1.5"},
                       {"conv_si_h0.3125_dt3e-06", 50, "semi-implicit", "3 (the study's case)"},
                       {"conv_si_h0.3125_dt6e-06", 50, "semi-implicit", "6"},
+                      {"conv_explicit_inc_h0.3125_dt5e-08", 50, "explicit, incremental pressure", "0.05"},
+                      {"conv_si_inc_h0.3125_dt7.5e-07", 50, "semi-implicit, incremental pressure", "0.75"},
+                      {"conv_si_inc_h0.3125_dt1.5e-06", 50, "semi-implicit, incremental pressure", "1.5"},
+                      {"conv_si_inc_h0.3125_dt3e-06", 50, "semi-implicit, incremental pressure", "3"},
+                      {"conv_si_inc_h0.3125_dt6e-06", 50, "semi-implicit, incremental pressure", "6"},
                       {"n100_explicit_early", 100, "explicit (the study's)", "0.05"},
                       {"n100_dt0.75us", 100, "semi-implicit", "0.75"},
                       {"n100_dt1.5us", 100, "semi-implicit", "1.5"},
-                      {"n100", 100, "semi-implicit", "3 (the study's case)"}};
+                      {"n100", 100, "semi-implicit", "3 (the study's case)"},
+                      {"n100_incremental", 100, "semi-implicit, incremental pressure", "3"}};
   std::ostringstream md;
   bool any = false;
   for (const Row& r : rows) {
@@ -397,11 +416,13 @@ namespace {
 std::string convergence_table(const Params& p, const Results& res) {
   const CaseResult* ref = nullptr;
   for (const auto& [name, r] : res.cases)
-    if (r.spec.role == "convergence" && r.failure.empty() && r.spec.coupling == "explicit" && r.h == 0.3125e-6 && (!ref || r.dt < ref->dt)) ref = &r;
+    if (r.spec.role == "convergence" && r.failure.empty() && r.spec.coupling == "explicit" && r.spec.projection.empty() && r.h == 0.3125e-6 &&
+        (!ref || r.dt < ref->dt))
+      ref = &r;
   std::vector<case_runner::ConvergenceRow> rows;
   for (const auto& [name, r] : res.cases) {
     if (r.spec.role != "convergence") continue;
-    case_runner::ConvergenceRow row{.kind = r.spec.coupling, .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
+    case_runner::ConvergenceRow row{.kind = r.spec.coupling + (r.spec.projection == "incremental" ? ", incremental p" : ""), .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
                                     .failure = r.failure};
     if (ref && r.failure.empty() && !r.centroids_end.empty())
       std::tie(row.error, row.x2_error) = case_runner::centroid_error(r.centroids_end, ref->centroids_end, ref->length);

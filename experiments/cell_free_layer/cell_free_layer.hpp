@@ -37,7 +37,10 @@
 //   n100_wide_gaps                   100 cells started about 2.9 um off the walls (kWideGapMargin)
 //   n100_explicit_early              100 cells, the study's explicit coupling, to 20 ms (kEarlyEnd)
 //   n50_repulsion                    the 50 cells with the 100-cell cases' membrane repulsion
-//   conv_*                           error against run time on a 1.2 ms horizon (50 cells)
+//   n50_incremental, n100_incremental  the study's cases with the pressure's incremental form
+//                                    (ChannelFlowParams; the cause of the Δt error: README.md)
+//   conv_*                           error against run time on a 1.2 ms horizon (50 cells;
+//                                    conv_*_inc_*: the incremental form)
 //
 // Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
 //       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
@@ -94,6 +97,7 @@ struct Case {
   double repulsion = 0;           // N/m, range kRepulsionRangeCells h; 0: off
   std::string coupling;           // "explicit" or "semi-implicit"; empty: the scene file's
   double margin = 0;              // m: the lattice's rows kept this far in from each wall (arrangement())
+  std::string projection;         // "study" or "incremental" (ChannelFlowParams); empty: the scene file's
 };
 
 struct Params {

@@ -60,15 +60,16 @@ e
 
 # The 100 cells' layer against Δt, coupling and start (full runs only: drawn when any of the
 # evidence runs has been collected): the study's case at Δt = 3, 1.5 and 0.75 us, with the
-# explicit coupling (to 20 ms), and from wider wall gaps.
-ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat 2>/dev/null | tr '\\n' ' '", dir))
+# explicit coupling (to 20 ms), from wider wall gaps, and with the pressure's incremental form.
+ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_incremental.dat 2>/dev/null | tr '\\n' ' '", dir))
 if (words(ev) > 0) {
   set output figdir.'/cell_free_layer_layer_evidence.png'
-  set title '100 cells: the cell-free layer (mean of the walls) against the time step, the coupling and the start'
+  set title '100 cells: the cell-free layer (mean of the walls) against the time step, the coupling, the start and the pressure'
   set xlabel 't (ms)'; set ylabel 'cell-free layer (um)'
   set xrange [0:205]; set autoscale y
   set key outside bottom center horizontal maxcols 3
   label(f) = strstrt(f, 'wide') ? 'dt = 3 us, started 2.9 um off the walls' : \
+             strstrt(f, 'incremental') ? 'dt = 3 us, incremental pressure' : \
              strstrt(f, 'explicit') ? 'explicit coupling (the study''s), dt = 0.05 us, to 20 ms' : \
              strstrt(f, 'dt1.5us') ? 'dt = 1.5 us' : strstrt(f, 'dt0.75us') ? 'dt = 0.75 us' : f
   plot dir.'/layer_n100.dat' using 1:4 with lines lw 1.5 lc 2 title 'dt = 3 us (the study''s case)', \
