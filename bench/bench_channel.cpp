@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include <fftw3.h>
@@ -281,16 +282,17 @@ static void bench_disks() {
 // faster on two threads, 7.41 iterations a step either way.
 // With --crowd-from DIR it starts instead from the newest checkpoint in DIR (a run's output
 // folder, e.g. results/cell_free_layer/n100 part way), to measure the steps of a later phase.
-static void bench_crowd(int steps, const std::string& from) {
+// --crowd-case NAME takes another case of cell_free_layer (--list-cases) from the developed
+// profile, e.g. n100_incremental (the pressure's incremental form).
+static void bench_crowd(int steps, const std::string& from, const std::string& name) {
   const FftPairs f = fft_pairs(320, 160);
-  rbc::cell_free_layer::Case c;
-  c.name = "n100";
-  c.cells = 100;
-  c.seed = 1;
-  c.repulsion = rbc::cell_free_layer::kRepulsionStrength;
-  const rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(c, false) : rbc::checkpoint_scene(from);
-  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, from %s, %d steps (FFT pair 2D: %.1f us)\n", scene.cells.size(),
-              scene.dt, from.empty() ? "the developed profile (cell_free_layer's n100)" : ("the checkpoint in " + from).c_str(), steps,
+  const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});
+  const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
+  if (c == all.end()) throw std::invalid_argument("bench_channel: --crowd-case " + name + " is not a case of cell_free_layer (--list-cases)");
+  const rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
+  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
+              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.repulsion_strength > 0 ? "on" : "off",
+              from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
   constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
   std::printf("%10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove, "it_max",
@@ -335,7 +337,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
-  std::string crowd_from;
+  std::string crowd_from, crowd_case = "n100";
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
@@ -345,10 +347,11 @@ int main(int argc, char** argv) {
     if (std::string(argv[a]) == "--crowd-only") crowd_only = true;
     if (std::string(argv[a]) == "--crowd-steps" && a + 1 < argc) crowd_steps = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--crowd-from" && a + 1 < argc) crowd_from = argv[a + 1];
+    if (std::string(argv[a]) == "--crowd-case" && a + 1 < argc) crowd_case = argv[a + 1];
   }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps, crowd_from);
+    bench_crowd(crowd_steps, crowd_from, crowd_case);
     return 0;
   }
   if (disks_only) {
@@ -400,6 +403,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps, crowd_from);
+  bench_crowd(crowd_steps, crowd_from, crowd_case);
   return 0;
 }

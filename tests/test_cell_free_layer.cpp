@@ -70,15 +70,17 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
       EXPECT_EQ(s.end, kEarlyEnd);
       EXPECT_EQ(s.coupling, "explicit");
       EXPECT_EQ(s.dt, kExplicitDt);
+    } else if (c.name == "n100_incremental_no_repulsion") {
+      EXPECT_EQ(s.end, kNoRepulsionEnd);
     } else {
       EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
     }
-    // The incremental pressure in its evidence runs (n50_incremental, n100_incremental) and the
+    // The incremental pressure in its evidence runs (n50_incremental, n100_incremental_*) and the
     // 1.2 ms runs named _inc only; the study's form everywhere else.
-    const bool incremental = c.name.ends_with("_incremental") || c.name.find("_inc_") != std::string::npos;
+    const bool incremental = c.name.find("_incremental") != std::string::npos || c.name.find("_inc_") != std::string::npos;
     EXPECT_EQ(s.projection, incremental ? "incremental" : "study") << c.name;
-    // The membrane repulsion: on (range 2h) in the 100-cell cases and in n50_repulsion only.
-    const bool repelled = c.cells == 100 || c.name == "n50_repulsion";
+    // The membrane repulsion: on (range 2h) in the 100-cell cases but one and in n50_repulsion.
+    const bool repelled = (c.cells == 100 && c.name != "n100_incremental_no_repulsion") || c.name == "n50_repulsion";
     EXPECT_EQ(s.repulsion_strength, repelled ? kRepulsionStrength : 0.0) << c.name;
     if (repelled) {
       EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * s.mesh_size) << c.name;

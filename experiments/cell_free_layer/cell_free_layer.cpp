@@ -132,7 +132,17 @@ std::vector<Case> cases(const Params& p) {
       Case c = make(base_name(n) + "_incremental", "evidence", n, 1);
       c.projection = "incremental";
       v.push_back(c);
+      if (n == 100) {
+        c.name = base_name(n) + "_incremental_dt1.5us";  // its Δt error
+        c.dt = 1.5e-6;
+        v.push_back(c);
+      }
     }
+    Case bare = make(base_name(100) + "_incremental_no_repulsion", "evidence", 100, 1);  // does the crowd still need it?
+    bare.projection = "incremental";
+    bare.repulsion = 0;
+    bare.end = kNoRepulsionEnd;
+    v.push_back(bare);
     Case quarter = make(base_name(100) + "_dt0.75us", "evidence", 100, 1);
     quarter.dt = 0.75e-6;
     v.push_back(quarter);
