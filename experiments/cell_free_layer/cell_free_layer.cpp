@@ -401,6 +401,7 @@ std::string early_layer_table(const Results& res) {
                       {"n100_dt0.75us", 100, "semi-implicit", "0.75"},
                       {"n100_dt1.5us", 100, "semi-implicit", "1.5"},
                       {"n100", 100, "semi-implicit", "3 (the study's case)"},
+                      {"n100_incremental_dt1.5us", 100, "semi-implicit, incremental pressure", "1.5"},
                       {"n100_incremental", 100, "semi-implicit, incremental pressure", "3"},
                       {"n100_incremental_no_repulsion", 100, "semi-implicit, incremental pressure, no repulsion", "3"}};
   std::ostringstream md;
