@@ -61,7 +61,7 @@ e
 # The 100 cells' layer against Δt, coupling and start (full runs only: drawn when any of the
 # evidence runs has been collected): the study's case at Δt = 3, 1.5 and 0.75 us, with the
 # explicit coupling (to 20 ms), from wider wall gaps, and with the pressure's incremental form.
-ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_incremental.dat 2>/dev/null | tr '\\n' ' '", dir))
+ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_incremental*.dat 2>/dev/null | tr '\\n' ' '", dir))
 if (words(ev) > 0) {
   set output figdir.'/cell_free_layer_layer_evidence.png'
   set title '100 cells: the cell-free layer (mean of the walls) against the time step, the coupling, the start and the pressure'
@@ -69,6 +69,8 @@ if (words(ev) > 0) {
   set xrange [0:205]; set autoscale y
   set key outside bottom center horizontal maxcols 3
   label(f) = strstrt(f, 'wide') ? 'dt = 3 us, started 2.9 um off the walls' : \
+             strstrt(f, 'no_repulsion') ? 'dt = 3 us, incremental pressure, no repulsion (to 30 ms)' : \
+             strstrt(f, 'incremental_dt1.5us') ? 'dt = 1.5 us, incremental pressure' : \
              strstrt(f, 'incremental') ? 'dt = 3 us, incremental pressure' : \
              strstrt(f, 'explicit') ? 'explicit coupling (the study''s), dt = 0.05 us, to 20 ms' : \
              strstrt(f, 'dt1.5us') ? 'dt = 1.5 us' : strstrt(f, 'dt0.75us') ? 'dt = 0.75 us' : f
