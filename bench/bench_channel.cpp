@@ -283,7 +283,7 @@ static void bench_disks() {
 // With --crowd-from DIR it starts instead from the newest checkpoint in DIR (a run's output
 // folder, e.g. results/cell_free_layer/n100 part way), to measure the steps of a later phase.
 // --crowd-case NAME takes another case of cell_free_layer (--list-cases) from the developed
-// profile, e.g. n100_incremental (the pressure's incremental form).
+// profile, e.g. n100_study_pressure (the study's form of the pressure).
 static void bench_crowd(int steps, const std::string& from, const std::string& name) {
   const FftPairs f = fft_pairs(320, 160);
   const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});

@@ -70,17 +70,19 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
       EXPECT_EQ(s.end, kEarlyEnd);
       EXPECT_EQ(s.coupling, "explicit");
       EXPECT_EQ(s.dt, kExplicitDt);
-    } else if (c.name == "n100_incremental_no_repulsion") {
+    } else if (c.name == "n100_no_repulsion") {
       EXPECT_EQ(s.end, kNoRepulsionEnd);
     } else {
       EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
     }
-    // The incremental pressure in its evidence runs (n50_incremental, n100_incremental_*) and the
-    // 1.2 ms runs named _inc only; the study's form everywhere else.
-    const bool incremental = c.name.find("_incremental") != std::string::npos || c.name.find("_inc_") != std::string::npos;
-    EXPECT_EQ(s.projection, incremental ? "incremental" : "study") << c.name;
+    // The study's form of the pressure in its evidence runs (*_study_pressure*), the study's own
+    // scheme (n100_explicit_early) and the 1.2 ms runs not named _inc; the incremental form (the
+    // scene file's) everywhere else.
+    const bool study_form = c.name.find("_study_pressure") != std::string::npos || c.name == "n100_explicit_early" ||
+                            (c.role == "convergence" && c.name.find("_inc_") == std::string::npos);
+    EXPECT_EQ(s.projection, study_form ? "study" : "incremental") << c.name;
     // The membrane repulsion: on (range 2h) in the 100-cell cases but one and in n50_repulsion.
-    const bool repelled = (c.cells == 100 && c.name != "n100_incremental_no_repulsion") || c.name == "n50_repulsion";
+    const bool repelled = (c.cells == 100 && c.name != "n100_no_repulsion") || c.name == "n50_repulsion";
     EXPECT_EQ(s.repulsion_strength, repelled ? kRepulsionStrength : 0.0) << c.name;
     if (repelled) {
       EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * s.mesh_size) << c.name;
@@ -160,10 +162,10 @@ TEST(CellFreeLayerExperiment, EnsembleTableAppliesTheToleranceRule) {
   put("n50_h0.625um", 4.1, 2.10);
   // s of {5.0, 5.4, 4.6} = 0.4; 2 * 0.4 + 0.3 + 0.9 / 3 = 1.4.
   EXPECT_EQ(layer_row(), "1.4 |");
-  // The incremental pressure's change is shown beside the Δt changes and kept out of the rule.
-  put("n50_incremental", 5.8, 2.30);
+  // The study's pressure form's change is shown beside the Δt change and kept out of the rule.
+  put("n50_study_pressure", 5.8, 2.30);
   EXPECT_EQ(layer_row(), "1.4 |");
-  EXPECT_NE(ensemble_table(p, res).find("| 5 | 5.4 4.6 | 5 | 0.4 | +0.3 | - | +0.8 | - | -0.9 | - | 1.4 |"), std::string::npos) << ensemble_table(p, res);
+  EXPECT_NE(ensemble_table(p, res).find("| 5 | 5.4 4.6 | 5 | 0.4 | +0.3 | +0.8 | - | -0.9 | - | 1.4 |"), std::string::npos) << ensemble_table(p, res);
   EXPECT_NE(ensemble_table(p, res).find("| 50 cells: Hct (%) |"), std::string::npos);
 }
 
@@ -185,16 +187,16 @@ TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
   put("n100", 0.2, 0.5);
   put("n100_dt1.5us", 1.5e-3, 1.0);  // ended before the second window: "-" there
   put("conv_si_h0.3125_dt3e-06", kConvTime, 2.5);
-  put("n100_incremental", 0.2, 2.75);
-  res.cases["n100_dt0.75us"] = res.cases["n100"];
-  res.cases["n100_dt0.75us"].failure = "stopped";  // left out
+  put("n100_study_pressure", 0.2, 0.75);
+  res.cases["n100_study_pressure_dt1.5us"] = res.cases["n100"];
+  res.cases["n100_study_pressure_dt1.5us"].failure = "stopped";  // left out
   const std::string md = early_layer_table(res);
-  EXPECT_NE(md.find("| 100 | explicit (the study's) | 0.05 | 2.000 | 2.000 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| 100 | semi-implicit | 3 (the study's case) | 0.500 | 0.500 |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| 100 | semi-implicit | 1.5 | 1.000 | - |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| 50 | semi-implicit | 3 (the study's case) | 2.500 | - |"), std::string::npos) << md;
-  EXPECT_NE(md.find("| 100 | semi-implicit, incremental pressure | 3 | 2.750 | 2.750 |"), std::string::npos) << md;
-  EXPECT_EQ(md.find("| 0.75 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | explicit, study's p (the study's scheme) | 0.05 | 2.000 | 2.000 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | semi-implicit, incremental p (the study's case) | 3 | 0.500 | 0.500 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | semi-implicit, incremental p | 1.5 | 1.000 | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 50 | semi-implicit, study's p | 3 | 2.500 | - |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 100 | semi-implicit, study's p | 3 | 0.750 | 0.750 |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("| 100 | semi-implicit, study's p | 1.5 |"), std::string::npos) << md;
 }
 
 TEST(CellFreeLayerExperiment, QuickRunMatchesItsRegressionRecord) {

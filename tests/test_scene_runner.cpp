@@ -168,6 +168,26 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
   EXPECT_EQ(samples, 5);  // t = 0 and every 5e-7 s to 2e-6 s
 }
 
+// A finished run is read back (--reuse) only for the scene that made it: another time step or
+// form of the pressure splitting runs again; a summary older than the "projection" key counts as
+// the study's form.
+TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse";
+  std::filesystem::remove_all(out);
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  ASSERT_EQ(scene.projection, "study");
+  run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.dt=5e-8"})).has_value());
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(j["projection"], "study");
+  j.erase("projection");
+  std::ofstream(out / "summary.json") << j.dump();
+  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
+}
+
 TEST(SceneRunner, UnwritableOutputFolderIsASceneError) {
   const Scene scene = parse_scene(kGood, "scene.toml");
   EXPECT_THROW(run_scene(scene, {.out_dir = "/proc/rbcflow-cannot-write-here", .threads = 1, .progress = false}), SceneError);

@@ -7,7 +7,8 @@
 // each wall of 6.24 um and 2.94 um (mean of the two walls, last millisecond), close to the
 // empirical estimate 100/Hct um (5.8 and 2.9 um); Re with the cells 2.346 and 1.677.
 //
-// Method: the cells by the semi-implicit coupling (lib/immersed_boundary); the health check
+// Method: the cells by the semi-implicit coupling (lib/immersed_boundary), the pressure in its
+// incremental form (cell_free_layer.toml, README.md: Deviations); the health check
 // stops a run whose membranes cross (lib/membrane/membrane_crossing.hpp). Scene:
 // cell_free_layer.toml (channel, time, output) plus each case's cells, added here.
 //
@@ -22,7 +23,9 @@
 // Definitions (SPEC sections 5.3 and 6):
 //   cell-free layer  at each sample the gap between a wall and the membrane node (of any cell)
 //                    closest to it (series.csv wall_gap_lower, wall_gap_upper), averaged over the
-//                    samples (every 0.1 ms) of the last millisecond; each wall and their mean;
+//                    samples (every 0.1 ms) of the last millisecond; each wall and their mean
+//                    (beside it, not a row: the mean of the walls over the run's second half,
+//                    which the layer's fluctuations of about 0.2 um disturb less);
 //   Hct              Σ cell areas / (L H), the same window; the empirical estimate is 100/Hct um;
 //   Re               ρ U H / μ with U the mean velocity over the section, the same window;
 //   Hct profile      the area fraction of cells at height x2, Σ_cells chord(x2) / L (chord: the
@@ -33,16 +36,17 @@
 //   n50 n100                         the study's runs (seed 1)
 //   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
 //   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
-//   n100_dt0.75us                    Δt quartered for 100 cells (is the layer converged in Δt?)
 //   n100_wide_gaps                   100 cells started about 2.9 um off the walls (kWideGapMargin)
-//   n100_explicit_early              100 cells, the study's explicit coupling, to 20 ms (kEarlyEnd)
+//   n100_explicit_early              100 cells, the study's own scheme (explicit coupling, the study's
+//                                    form of the pressure), to 20 ms (kEarlyEnd)
 //   n50_repulsion                    the 50 cells with the 100-cell cases' membrane repulsion
-//   n50_incremental, n100_incremental  the study's cases with the pressure's incremental form
-//                                    (ChannelFlowParams; the cause of the Δt error: README.md);
-//                                    n100_incremental_dt1.5us its Δt/2, n100_incremental_no_repulsion
-//                                    without the repulsion, to kNoRepulsionEnd
+//   n50_study_pressure, n100_study_pressure  the study's cases with the study's form of the
+//                                    pressure splitting (the cause of the deviation the experiment
+//                                    had in that form: README.md, Deviations); n100_study_pressure_dt1.5us
+//                                    its Δt/2
+//   n100_no_repulsion                100 cells without the repulsion, to kNoRepulsionEnd
 //   conv_*                           error against run time on a 1.2 ms horizon (50 cells;
-//                                    conv_*_inc_*: the incremental form)
+//                                    conv_*_inc_*: the incremental form, the others the study's)
 //
 // Run:  build/bin/cell_free_layer --list-cases | parallel -j2 build/bin/cell_free_layer --only {} --threads 1
 //       build/bin/cell_free_layer --check --reuse    (the table from the finished cases)
@@ -85,11 +89,11 @@ inline constexpr double kConvTime = 1.2e-3;
 inline constexpr double kWideGapMargin = 2.25e-6;
 // The 100 cells' early layer with the study's own (explicit) coupling (n100_explicit_early): Δt =
 // kExplicitDt, below its stability limit (6e-8 s for 100 cells at this h: bench_channel), to
-// kEarlyEnd; compared with the semi-implicit runs at 3, 1.5 and 0.75 us over the window
+// kEarlyEnd; compared with the semi-implicit runs at 3 and 1.5 us (both forms of the pressure) over the window
 // [kEarlyFrom, kEarlyEnd], where they already part, and over the second half of kConvTime
 // (early_layer_table; there also the 50 cells' 1.2 ms runs of both couplings).
 inline constexpr double kExplicitDt = 5e-8, kEarlyFrom = 2e-3, kEarlyEnd = 20e-3;
-// n100_incremental_no_repulsion runs to kNoRepulsionEnd: three times as long as the study's form
+// n100_no_repulsion runs to kNoRepulsionEnd: three times as long as the study's form
 // kept the same cells off the walls without the repulsion (a wall reached at 10.1 ms, README.md).
 inline constexpr double kNoRepulsionEnd = 30e-3;
 
@@ -132,6 +136,7 @@ struct CaseResult {
   std::string failure;
   std::vector<double> t, gap_lower, gap_upper, hematocrit, reynolds;  // the samples (s, m, m, %, -)
   double layer_lower = 0, layer_upper = 0, layer = 0;  // m, over the last kWindow
+  double layer_late = 0;                                // m, mean of the walls over the run's second half (less noisy; not a row)
   double hct = 0, re = 0;                               // %, -, same window
   long repulsion_steps = 0;                             // steps in which the membrane repulsion acted (summary.json)
   std::vector<Eigen::Vector2d> centroids_end;           // m, every cell's centroid at the last sample

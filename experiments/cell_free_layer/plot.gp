@@ -58,22 +58,23 @@ e
 200 2.9
 e
 
-# The 100 cells' layer against Δt, coupling and start (full runs only: drawn when any of the
-# evidence runs has been collected): the study's case at Δt = 3, 1.5 and 0.75 us, with the
-# explicit coupling (to 20 ms), from wider wall gaps, and with the pressure's incremental form.
-ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_incremental*.dat 2>/dev/null | tr '\\n' ' '", dir))
+# The 100 cells' layer against Δt, coupling, start and the pressure's form (full runs only: drawn
+# when any of the evidence runs has been collected): the study's case at Δt = 3 and 1.5 us, with the
+# study's form of the pressure at both, with the study's own scheme (explicit, to 20 ms), from wider
+# wall gaps and without the repulsion (to 30 ms).
+ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_study_pressure*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_no_repulsion.dat 2>/dev/null | tr '\\n' ' '", dir))
 if (words(ev) > 0) {
   set output figdir.'/cell_free_layer_layer_evidence.png'
-  set title '100 cells: the cell-free layer (mean of the walls) against the time step, the coupling, the start and the pressure'
+  set title '100 cells: the cell-free layer (mean of the walls) against the time step, the pressure''s form, the coupling and the start'
   set xlabel 't (ms)'; set ylabel 'cell-free layer (um)'
   set xrange [0:205]; set autoscale y
   set key outside bottom center horizontal maxcols 3
   label(f) = strstrt(f, 'wide') ? 'dt = 3 us, started 2.9 um off the walls' : \
-             strstrt(f, 'no_repulsion') ? 'dt = 3 us, incremental pressure, no repulsion (to 30 ms)' : \
-             strstrt(f, 'incremental_dt1.5us') ? 'dt = 1.5 us, incremental pressure' : \
-             strstrt(f, 'incremental') ? 'dt = 3 us, incremental pressure' : \
-             strstrt(f, 'explicit') ? 'explicit coupling (the study''s), dt = 0.05 us, to 20 ms' : \
-             strstrt(f, 'dt1.5us') ? 'dt = 1.5 us' : strstrt(f, 'dt0.75us') ? 'dt = 0.75 us' : f
+             strstrt(f, 'no_repulsion') ? 'dt = 3 us, no repulsion (to 30 ms)' : \
+             strstrt(f, 'study_pressure_dt1.5us') ? 'dt = 1.5 us, the study''s pressure form' : \
+             strstrt(f, 'study_pressure') ? 'dt = 3 us, the study''s pressure form' : \
+             strstrt(f, 'explicit') ? 'the study''s scheme (explicit, its pressure form), dt = 0.05 us, to 20 ms' : \
+             strstrt(f, 'dt1.5us') ? 'dt = 1.5 us' : f
   plot dir.'/layer_n100.dat' using 1:4 with lines lw 1.5 lc 2 title 'dt = 3 us (the study''s case)', \
        for [i=1:words(ev)] dir.'/'.word(ev, i) using 1:4 with lines lw 1.5 lc (i + 2) title label(word(ev, i)), \
        '+' using (200):(2.94) every ::0::0 with points pt 7 ps 1.5 lc rgb 'black' title 'study'

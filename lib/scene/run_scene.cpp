@@ -469,6 +469,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["mesh"] = {{"nx", flow.mesh().nx}, {"ny", flow.mesh().ny}, {"h", scene.mesh_size}};
   j["dt"] = scene.dt;
   j["coupling"] = scene.coupling;
+  j["projection"] = scene.projection;
   if (!cells.empty())
     j["membrane"] = {{"units", scene.membrane_constants.units}, {"kl", sim.membrane().kl}, {"kb", sim.membrane().kb},
                      {"ks", sim.membrane().ks}, {"area_penalty", scene.area_penalty}, {"nodes", scene.membrane_nodes},
@@ -487,7 +488,9 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
   if (!fs::exists(path)) return std::nullopt;
   try {
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
+    // (A summary without "projection" is older than the incremental form's key: the study's form.)
     if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
+        j.value("projection", std::string("study")) != scene.projection ||
         std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
     RunSummary s;
