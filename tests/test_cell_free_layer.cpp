@@ -3,6 +3,7 @@
 // collecting finished cases without running the others (--collect).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <numbers>
 
 #include "cell_free_layer/cell_free_layer.hpp"
+#include "common/case_runner.hpp"
 
 namespace rbc {
 namespace {
@@ -197,6 +199,24 @@ TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
   EXPECT_NE(md.find("| 50 | semi-implicit, study's p | 3 | 2.500 | - |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 100 | semi-implicit, study's p | 3 | 0.750 | 0.750 |"), std::string::npos) << md;
   EXPECT_EQ(md.find("| 100 | semi-implicit, study's p | 1.5 |"), std::string::npos) << md;
+}
+
+// The work-precision table's CSV is split at commas by plot.gp (awk -F,): a kind with a comma is
+// refused, and the kinds this experiment writes have eight fields a line.
+TEST(CellFreeLayerExperiment, ConvergenceCsvKeepsItsColumns) {
+  const fs::path csv = fs::temp_directory_path() / "rbcflow_cfl_convergence.csv";
+  case_runner::ConvergenceRow row{.kind = "semi-implicit, incremental p", .h = 0.3125e-6, .dt = 3e-6, .steps = 400, .wall_seconds = 9.6};
+  EXPECT_THROW(case_runner::convergence_table({row}, csv.string(), ""), std::invalid_argument);
+  row.kind = "semi-implicit + incremental p";
+  case_runner::convergence_table({row, row}, csv.string(), "");
+  std::ifstream f(csv);
+  std::string line;
+  int lines = 0;
+  while (std::getline(f, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 7) << line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 3);
 }
 
 TEST(CellFreeLayerExperiment, QuickRunMatchesItsRegressionRecord) {

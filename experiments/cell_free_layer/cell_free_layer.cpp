@@ -435,7 +435,7 @@ std::string convergence_table(const Params& p, const Results& res) {
   std::vector<case_runner::ConvergenceRow> rows;
   for (const auto& [name, r] : res.cases) {
     if (r.spec.role != "convergence") continue;
-    case_runner::ConvergenceRow row{.kind = r.spec.coupling + (r.spec.projection == "incremental" ? ", incremental p" : ", study's p"), .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
+    case_runner::ConvergenceRow row{.kind = r.spec.coupling + (r.spec.projection == "incremental" ? " + incremental p" : " + study-form p"), .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
                                     .failure = r.failure};
     if (ref && r.failure.empty() && !r.centroids_end.empty())
       std::tie(row.error, row.x2_error) = case_runner::centroid_error(r.centroids_end, ref->centroids_end, ref->length);

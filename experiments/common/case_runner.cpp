@@ -7,6 +7,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <tuple>
 
 namespace rbc::case_runner {
@@ -49,6 +50,8 @@ std::string convergence_table(std::vector<ConvergenceRow> rows, const std::strin
   std::sort(rows.begin(), rows.end(), [](const ConvergenceRow& a, const ConvergenceRow& b) {
     return std::tie(a.kind, b.h, b.dt) < std::tie(b.kind, a.h, a.dt);  // by kind, coarse to fine
   });
+  for (const ConvergenceRow& r : rows)  // the plot scripts split convergence.csv at commas (awk -F,)
+    if (r.kind.find(',') != std::string::npos) throw std::invalid_argument("convergence_table: a kind with a comma breaks the CSV: '" + r.kind + "'");
   std::ofstream csv(csv_path);
   csv << "kind,h_um,dt_s,steps,wall_seconds,error_um,lateral_error_um,failure\n";
   std::ostringstream md;
