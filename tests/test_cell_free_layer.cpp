@@ -205,7 +205,12 @@ TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
 // refused, and the kinds this experiment writes have eight fields a line.
 TEST(CellFreeLayerExperiment, ConvergenceCsvKeepsItsColumns) {
   const fs::path csv = fs::temp_directory_path() / "rbcflow_cfl_convergence.csv";
-  case_runner::ConvergenceRow row{.kind = "semi-implicit, incremental p", .h = 0.3125e-6, .dt = 3e-6, .steps = 400, .wall_seconds = 9.6};
+  case_runner::ConvergenceRow row;
+  row.kind = "semi-implicit, incremental p";
+  row.h = 0.3125e-6;
+  row.dt = 3e-6;
+  row.steps = 400;
+  row.wall_seconds = 9.6;
   EXPECT_THROW(case_runner::convergence_table({row}, csv.string(), ""), std::invalid_argument);
   row.kind = "semi-implicit + incremental p";
   case_runner::convergence_table({row, row}, csv.string(), "");
