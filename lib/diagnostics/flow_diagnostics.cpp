@@ -2,18 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "fem/p1_operators.hpp"
 
 namespace rbc {
 
 double mean_velocity(const ChannelMesh& m, const VelocityField& u) {
-  double s = 0;
+  // Rows in parallel (this runs every step), summed in one order whatever the threads.
+  std::vector<double> row(std::size_t(m.ny) + 1, 0.0);
+#pragma omp parallel for schedule(static) if (m.nx * m.ny >= 4096)
   for (int j = 0; j <= m.ny; ++j) {
-    double row = 0;
-    for (int i = 0; i < m.nx; ++i) row += u.u1[m.v(i, j)];
-    s += lumped_mass(m, j) * row;
+    double r = 0;
+    for (int i = 0; i < m.nx; ++i) r += u.u1[m.v(i, j)];
+    row[j] = r;
   }
+  double s = 0;
+  for (int j = 0; j <= m.ny; ++j) s += lumped_mass(m, j) * row[j];
   return s / (m.length * m.height);
 }
 
@@ -22,16 +27,21 @@ double reynolds_number(double mean_velocity, const FluidProperties& f, double he
 }
 
 double max_speed(const VelocityField& u) {
-  // The largest |u|² first, one square root at the end (this runs every step).
+  // The largest |u|² first, one square root at the end (this runs every step; a maximum is exact
+  // in any order, so threads may share it).
+  const long size = long(u.u1.size());
   double m2 = 0;
-  for (std::size_t n = 0; n < u.u1.size(); ++n) m2 = std::max(m2, u.u1[n] * u.u1[n] + u.u2[n] * u.u2[n]);
+#pragma omp parallel for schedule(static) reduction(max : m2) if (size >= 8192)
+  for (long n = 0; n < size; ++n) m2 = std::max(m2, u.u1[n] * u.u1[n] + u.u2[n] * u.u2[n]);
   return std::sqrt(m2);
 }
 
 bool all_finite(const VelocityField& u) {
-  for (std::size_t n = 0; n < u.u1.size(); ++n)
-    if (!std::isfinite(u.u1[n]) || !std::isfinite(u.u2[n])) return false;
-  return true;
+  const long size = long(u.u1.size());
+  bool finite = true;
+#pragma omp parallel for schedule(static) reduction(&& : finite) if (size >= 8192)
+  for (long n = 0; n < size; ++n) finite = finite && std::isfinite(u.u1[n]) && std::isfinite(u.u2[n]);
+  return finite;
 }
 
 }  // namespace rbc

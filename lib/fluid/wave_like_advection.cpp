@@ -88,20 +88,33 @@ void WaveLikeAdvection::advect(const VelocityField& V, VelocityField& u, double 
     }
     return;
   }
-  for (int c = 0; c < 2; ++c) prev_[c] = *f[c];
+  // (The node loops below run in parallel, each node on its own: the same values whatever the threads.)
+  const std::ptrdiff_t size = std::ptrdiff_t(f[0]->size());
+  for (int c = 0; c < 2; ++c) {
+    const double* x = f[c]->data();
+    double* p = prev_[c].data();
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t n = 0; n < size; ++n) p[n] = x[n];
+  }
   std::vector<double>* const prev[2] = {&prev_[0], &prev_[1]};
   std::vector<double>* const cur[2] = {&cur_[0], &cur_[1]};
   apply(prev, acc_, vel_);
   for (int c = 0; c < 2; ++c) {
-    cur_[c] = prev_[c];
-    for (std::size_t n = first; n < last; ++n) cur_[c][n] = prev_[c][n] + tau * vel_[c][n] - 0.5 * tau * tau * acc_[c][n];
+    const double *p = prev_[c].data(), *v = vel_[c].data(), *a = acc_[c].data();
+    double* x = cur_[c].data();
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t n = 0; n < size; ++n)
+      x[n] = std::size_t(n) >= first && std::size_t(n) < last ? p[n] + tau * v[n] - 0.5 * tau * tau * a[n] : p[n];
   }
   // Centred steps: u^{q+1} = 2u^q − u^{q−1} − τ² M⁻¹A u^q.
   for (int q = 1; q < substeps; ++q) {
     apply(cur, acc_, nullptr);
     for (int c = 0; c < 2; ++c) {
-      next_[c] = cur_[c];
-      for (std::size_t n = first; n < last; ++n) next_[c][n] = 2.0 * cur_[c][n] - prev_[c][n] - tau * tau * acc_[c][n];
+      const double *p = prev_[c].data(), *x = cur_[c].data(), *a = acc_[c].data();
+      double* y = next_[c].data();
+#pragma omp parallel for schedule(static)
+      for (std::ptrdiff_t n = 0; n < size; ++n)
+        y[n] = std::size_t(n) >= first && std::size_t(n) < last ? 2.0 * x[n] - p[n] - tau * tau * a[n] : x[n];
       std::swap(prev_[c], cur_[c]);
       std::swap(cur_[c], next_[c]);
     }

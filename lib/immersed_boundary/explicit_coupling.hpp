@@ -38,7 +38,7 @@ class ExplicitMembraneStep {
   ChannelMesh mesh_;
   MembraneModel model_;
   VelocityField force_;
-  Points U_, F_;
+  std::vector<Points> F_;  // each cell's node forces (N/m)
   std::vector<std::vector<NodeStencil>> stencils_;
   MembraneRepulsion repulsion_;
   double length_ = 0, height_ = 0;

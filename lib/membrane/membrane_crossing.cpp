@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace rbc {
 
@@ -86,28 +87,39 @@ std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b
   return std::nullopt;
 }
 
-std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Points>& membranes, double L) {
-  std::vector<Box> boxes;
-  boxes.reserve(membranes.size());
-  for (const auto& m : membranes) boxes.push_back(m.empty() ? Box{} : box_of(m));
-  for (std::size_t a = 0; a < membranes.size(); ++a)
-    for (std::size_t b = a + 1; b < membranes.size(); ++b) {
-      if (membranes[a].size() < 2 || membranes[b].size() < 2) continue;
+namespace {
+// The first crossing in the order (a, b), a < b, of the membranes get(0 .. count − 1). The pairs
+// with overlapping boxes are tested in parallel (this runs every step), each a on its own.
+template <class Get>
+std::optional<MembraneCrossing> first_crossing(std::size_t count, Get get, double L) {
+  std::vector<Box> boxes(count);
+  for (std::size_t k = 0; k < count; ++k) boxes[k] = get(k).empty() ? Box{} : box_of(get(k));
+  std::vector<std::optional<MembraneCrossing>> found(count);
+  const long n = long(count);
+#pragma omp parallel for schedule(dynamic, 4) if (n > 8)
+  for (long a = 0; a < n; ++a)
+    for (long b = a + 1; b < n; ++b) {
+      if (get(a).size() < 2 || get(b).size() < 2) continue;
       if (!boxes_overlap(boxes[a], boxes[b], nearest_shift(boxes[a], boxes[b], L))) continue;
-      if (auto c = membranes_cross(membranes[a], membranes[b], L)) {
-        c->cell_a = a;
-        c->cell_b = b;
-        return c;
+      if (auto c = membranes_cross(get(a), get(b), L)) {
+        c->cell_a = std::size_t(a);
+        c->cell_b = std::size_t(b);
+        found[a] = c;
+        break;
       }
     }
+  for (auto& f : found)
+    if (f) return f;
   return std::nullopt;
+}
+}  // namespace
+
+std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Points>& membranes, double L) {
+  return first_crossing(membranes.size(), [&](std::size_t k) -> const Points& { return membranes[k]; }, L);
 }
 
 std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Cell>& cells, double L) {
-  std::vector<Points> m;
-  m.reserve(cells.size());
-  for (const auto& c : cells) m.push_back(c.nodes);
-  return find_membrane_crossing(m, L);
+  return first_crossing(cells.size(), [&](std::size_t k) -> const Points& { return cells[k].nodes; }, L);
 }
 
 }  // namespace rbc
