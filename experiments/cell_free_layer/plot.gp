@@ -45,8 +45,8 @@ ens = 'layer_n50.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat 2>/dev/nul
 long = last_time('n50') > 100
 rep = dir.'/layer_n50_repulsion.dat'  # the evidence run (full runs only)
 has_rep = system('test -f '.rep.' && echo 1 || echo 0') eq "1"
-plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells', \
-     dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells', \
+plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells (seed 1; thin dashed: the other arrangements)', \
+     dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells (seed 1; thin dashed: the other arrangements)', \
      for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
      (has_rep ? rep : dir.'/layer_n50.dat') using 1:(has_rep ? $4 : 1/0) with lines lw 1 dt 3 lc 3 title (has_rep ? '50 cells with the repulsion' : ''), \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
@@ -92,7 +92,7 @@ plot dir.'/profile_n50.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
 # when the table has a run with an error; a sweep collected before its conv_* cases has none).
 conv = dir.'/convergence.csv'
 if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 0)}' ".conv." || echo 0") eq "1") {
-  set terminal pngcairo size 800, 560 font ',11'
+  set terminal pngcairo size 800, 680 font ',11'
   set output figdir.'/cell_free_layer_work_precision.png'
   set datafile separator ','
   set autoscale
@@ -101,7 +101,7 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
   set title 'RMS error of the 50 centroids at 1.2 ms against wall time'
   set xlabel 'wall time of the run (s)'
   set ylabel 'RMS |x - x^{finest}| (um)'
-  set key bottom left inside
+  set key below left Left reverse maxcols 1  # below the axes: the runs reach every corner
   sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
   # The kinds (convergence.csv, no commas in them): the coupling + the pressure's form.
   plot for [h in "0.625 0.3125"] sel("semi-implicit + incremental p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, incremental p (the experiment''s), h = '.h.' um', \
