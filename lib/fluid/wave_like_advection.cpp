@@ -1,5 +1,6 @@
 #include "fluid/wave_like_advection.hpp"
 
+#include <algorithm>
 #include <utility>
 
 namespace rbc {
@@ -88,23 +89,20 @@ void WaveLikeAdvection::advect(const VelocityField& V, VelocityField& u, double 
     }
     return;
   }
-  // (The node loops below run in parallel, each node on its own: the same values whatever the threads.)
-  const std::ptrdiff_t size = std::ptrdiff_t(f[0]->size());
-  for (int c = 0; c < 2; ++c) {
-    const double* x = f[c]->data();
-    double* p = prev_[c].data();
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t n = 0; n < size; ++n) p[n] = x[n];
-  }
+  // (The interior loops below run in parallel, each node on its own: the same values whatever the
+  // threads; the wall rows keep their values.)
+  const std::ptrdiff_t begin = std::ptrdiff_t(first), end = std::ptrdiff_t(last);
+  for (int c = 0; c < 2; ++c) prev_[c] = *f[c];
   std::vector<double>* const prev[2] = {&prev_[0], &prev_[1]};
   std::vector<double>* const cur[2] = {&cur_[0], &cur_[1]};
   apply(prev, acc_, vel_);
   for (int c = 0; c < 2; ++c) {
     const double *p = prev_[c].data(), *v = vel_[c].data(), *a = acc_[c].data();
     double* x = cur_[c].data();
+    std::copy(p, p + begin, x);
+    std::copy(p + end, p + prev_[c].size(), x + end);
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t n = 0; n < size; ++n)
-      x[n] = std::size_t(n) >= first && std::size_t(n) < last ? p[n] + tau * v[n] - 0.5 * tau * tau * a[n] : p[n];
+    for (std::ptrdiff_t n = begin; n < end; ++n) x[n] = p[n] + tau * v[n] - 0.5 * tau * tau * a[n];
   }
   // Centred steps: u^{q+1} = 2u^q − u^{q−1} − τ² M⁻¹A u^q.
   for (int q = 1; q < substeps; ++q) {
@@ -112,9 +110,10 @@ void WaveLikeAdvection::advect(const VelocityField& V, VelocityField& u, double 
     for (int c = 0; c < 2; ++c) {
       const double *p = prev_[c].data(), *x = cur_[c].data(), *a = acc_[c].data();
       double* y = next_[c].data();
+      std::copy(x, x + begin, y);
+      std::copy(x + end, x + cur_[c].size(), y + end);
 #pragma omp parallel for schedule(static)
-      for (std::ptrdiff_t n = 0; n < size; ++n)
-        y[n] = std::size_t(n) >= first && std::size_t(n) < last ? 2.0 * x[n] - p[n] - tau * tau * a[n] : x[n];
+      for (std::ptrdiff_t n = begin; n < end; ++n) y[n] = 2.0 * x[n] - p[n] - tau * tau * a[n];
       std::swap(prev_[c], cur_[c]);
       std::swap(cur_[c], next_[c]);
     }

@@ -97,9 +97,10 @@ std::optional<MembraneCrossing> first_crossing(std::size_t count, Get get, doubl
   std::vector<std::optional<MembraneCrossing>> found(count);
   const long n = long(count);
 #pragma omp parallel for schedule(dynamic, 4) if (n > 8)
-  for (long a = 0; a < n; ++a)
+  for (long a = 0; a < n; ++a) {
+    if (get(a).size() < 2) continue;
     for (long b = a + 1; b < n; ++b) {
-      if (get(a).size() < 2 || get(b).size() < 2) continue;
+      if (get(b).size() < 2) continue;
       if (!boxes_overlap(boxes[a], boxes[b], nearest_shift(boxes[a], boxes[b], L))) continue;
       if (auto c = membranes_cross(get(a), get(b), L)) {
         c->cell_a = std::size_t(a);
@@ -108,6 +109,7 @@ std::optional<MembraneCrossing> first_crossing(std::size_t count, Get get, doubl
         break;
       }
     }
+  }
   for (auto& f : found)
     if (f) return f;
   return std::nullopt;
