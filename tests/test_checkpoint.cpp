@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/checkpoint.hpp"
+#include "io/progress.hpp"
 #include "scene/run_scene.hpp"
 
 namespace rbc {
@@ -237,6 +239,27 @@ TEST(Checkpoint, AnUnstableRunStopsNamingTheCauseAndKeepsItsLastGoodCheckpoint) 
     ++rows;
   }
   EXPECT_GE(rows, 2);
+}
+
+// The progress line of long runs: durations as the line prints them, and the last line of a run
+// gives its wall time and one rate (the last minute's rate only appears part way through a run
+// longer than a minute and a bit).
+TEST(ProgressLine, DurationsAndTheFinalLine) {
+  EXPECT_EQ(format_duration(4.25), "4.2s");
+  EXPECT_EQ(format_duration(192), "3m12s");
+  EXPECT_EQ(format_duration(3720), "1h02m");
+  EXPECT_EQ(format_duration(INFINITY), "?");
+  testing::internal::CaptureStderr();
+  {
+    ProgressMeter p("case", 200, 2e-3, true);
+    p.update(100, 1e-3);  // too soon after the start for a line
+    p.finish(200, 2e-3);
+  }
+  const std::string line = testing::internal::GetCapturedStderr();
+  EXPECT_NE(line.find("case: t = 0.002 / 0.002 s (100.0 %), step 200/200, "), std::string::npos) << line;
+  EXPECT_NE(line.find(" steps/s, wall "), std::string::npos) << line;
+  EXPECT_EQ(line.find("last"), std::string::npos) << line;
+  EXPECT_EQ(std::count(line.begin(), line.end(), '\n'), 1) << line;
 }
 
 }  // namespace
