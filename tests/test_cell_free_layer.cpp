@@ -72,8 +72,6 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
       EXPECT_EQ(s.end, kEarlyEnd);
       EXPECT_EQ(s.coupling, "explicit");
       EXPECT_EQ(s.dt, kExplicitDt);
-    } else if (c.name == "n100_no_repulsion") {
-      EXPECT_EQ(s.end, kNoRepulsionEnd);
     } else {
       EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
     }

@@ -146,7 +146,6 @@ std::vector<Case> cases(const Params& p) {
     }
     Case bare = make(base_name(100) + "_no_repulsion", "evidence", 100, 1);  // does the crowd still need it?
     bare.repulsion = 0;
-    bare.end = kNoRepulsionEnd;
     v.push_back(bare);
   }
   for (int n : {100, 50}) {

@@ -61,7 +61,7 @@ e
 # The 100 cells' layer against Δt, coupling, start and the pressure's form (full runs only: drawn
 # when any of the evidence runs has been collected): the study's case at Δt = 3 and 1.5 us, with the
 # study's form of the pressure at both, with the study's own scheme (explicit, to 20 ms), from wider
-# wall gaps and without the repulsion (to 30 ms).
+# wall gaps and without the repulsion.
 ev = system(sprintf("cd %s && ls layer_n100_dt*.dat layer_n100_study_pressure*.dat layer_n100_wide_gaps.dat layer_n100_explicit_early.dat layer_n100_no_repulsion.dat 2>/dev/null | tr '\\n' ' '", dir))
 if (words(ev) > 0) {
   set output figdir.'/cell_free_layer_layer_evidence.png'
@@ -70,7 +70,7 @@ if (words(ev) > 0) {
   set xrange [0:205]; set autoscale y
   set key outside bottom center horizontal maxcols 3
   label(f) = strstrt(f, 'wide') ? 'dt = 3 us, started 2.9 um off the walls' : \
-             strstrt(f, 'no_repulsion') ? 'dt = 3 us, no repulsion (to 30 ms)' : \
+             strstrt(f, 'no_repulsion') ? 'dt = 3 us, no repulsion' : \
              strstrt(f, 'study_pressure_dt1.5us') ? 'dt = 1.5 us, the study''s pressure form' : \
              strstrt(f, 'study_pressure') ? 'dt = 3 us, the study''s pressure form' : \
              strstrt(f, 'explicit') ? 'the study''s scheme (explicit, its pressure form), dt = 0.05 us, to 20 ms' : \
