@@ -4,6 +4,7 @@
 #include <random>
 
 #include <Eigen/SparseLU>
+#include <omp.h>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
 #include "fem/divergence_stencil.hpp"
@@ -61,30 +62,46 @@ TEST(FastSolvers, HelmholtzSolveMatchesSparseLU) {
 }
 
 TEST(FastSolvers, ThePairSolveGivesEachFieldBitForBitAsTheSingleSolve) {
-  // solve_pair shares the factors' reads between two fields; each result must be the one solve()
-  // gives (same plans, same operations), on a grid large enough to use both threads' halves.
+  // solve_pair shares the factors' reads between two fields (one thread) or gives a thread each
+  // field whole (two threads); each result must be the one solve() gives on one thread and on two
+  // (same plans, same operations per value), on a grid large enough to use the threads, for an
+  // operator symmetric in x1 (step 4's: the real path) and one that is not (the complex path).
   const ChannelMesh m = ChannelMesh::make(100e-6, 50e-6, 0.3125e-6);
   const int nx = m.nx, rows = m.ny - 1;
   const double diag = 1000 * m.h * m.h / 1e-6 + 4 * 1.2e-3;
-  auto apply = [=](const std::vector<double>& in, std::vector<double>& out) {
-    for (int r = 0; r < rows; ++r)
-      for (int i = 0; i < nx; ++i) {
-        double s = diag * in[r * nx + i] - 1.2e-3 * (in[r * nx + (i + 1) % nx] + in[r * nx + (i + nx - 1) % nx]);
-        if (r > 0) s -= 1.2e-3 * in[(r - 1) * nx + i];
-        if (r + 1 < rows) s -= 1.2e-3 * in[(r + 1) * nx + i];
-        out[r * nx + i] = s;
-      }
-  };
-  PeriodicBandedSolver solver(nx, rows, apply, false);
-  const std::vector<double> b1 = random_vector(std::size_t(nx) * rows, 2), b2 = random_vector(std::size_t(nx) * rows, 3);
-  std::vector<double> x1(b1.size()), x2(b1.size()), p1 = b1, p2 = b2;
-  solver.solve(b1.data(), x1.data());
-  solver.solve(b2.data(), x2.data());
-  solver.solve_pair(p1.data(), p2.data(), p1.data(), p2.data());  // in place, as the diffusion step calls it
-  EXPECT_EQ(p1, x1);
-  EXPECT_EQ(p2, x2);
-  EXPECT_NE(x1, x2);
-  EXPECT_TRUE(solver.real_symbol());  // symmetric in x1: the real path
+  for (const double skew : {0.0, 0.3e-3}) {
+    auto apply = [=](const std::vector<double>& in, std::vector<double>& out) {
+      for (int r = 0; r < rows; ++r)
+        for (int i = 0; i < nx; ++i) {
+          double s = diag * in[r * nx + i] - (1.2e-3 + skew) * in[r * nx + (i + 1) % nx] - (1.2e-3 - skew) * in[r * nx + (i + nx - 1) % nx];
+          if (r > 0) s -= 1.2e-3 * in[(r - 1) * nx + i];
+          if (r + 1 < rows) s -= 1.2e-3 * in[(r + 1) * nx + i];
+          out[r * nx + i] = s;
+        }
+    };
+    PeriodicBandedSolver solver(nx, rows, apply, false);
+    EXPECT_EQ(solver.real_symbol(), skew == 0.0);
+    const std::vector<double> b1 = random_vector(std::size_t(nx) * rows, 2), b2 = random_vector(std::size_t(nx) * rows, 3);
+    const int threads = omp_get_max_threads();
+    std::vector<double> x1(b1.size()), x2(b1.size());
+    omp_set_num_threads(1);
+    solver.solve(b1.data(), x1.data());
+    solver.solve(b2.data(), x2.data());
+    EXPECT_NE(x1, x2);
+    for (int t : {1, 2}) {
+      omp_set_num_threads(t);
+      std::vector<double> p1 = b1, p2 = b2, q1(b1.size()), q2(b1.size()), y1(b1.size());
+      solver.solve_pair(p1.data(), p2.data(), p1.data(), p2.data());  // in place, as the diffusion step calls it
+      solver.solve_pair(b1.data(), b2.data(), q1.data(), q2.data());  // out of place
+      solver.solve(b1.data(), y1.data());
+      EXPECT_EQ(p1, x1) << t << " threads, skew " << skew;
+      EXPECT_EQ(p2, x2) << t << " threads, skew " << skew;
+      EXPECT_EQ(q1, x1) << t << " threads, skew " << skew;
+      EXPECT_EQ(q2, x2) << t << " threads, skew " << skew;
+      EXPECT_EQ(y1, x1) << t << " threads, skew " << skew;
+    }
+    omp_set_num_threads(threads);
+  }
 }
 
 TEST(FastSolvers, AnOperatorNotSymmetricInX1TakesTheComplexPathAndStillSolves) {

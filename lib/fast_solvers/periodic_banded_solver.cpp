@@ -133,35 +133,36 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
   const double scale = 1.0 / nx_;
   // Values [first, last) of row half h.
   auto half = [&](int h) { return std::pair<std::size_t, std::size_t>(h == 0 ? 0 : std::size_t(half_) * nx_, h == 0 ? std::size_t(half_) * nx_ : size); };
-  // Threads only pay on large grids (the wide channel's 320 x 159 and its coarse 160 x 81); small ones stay serial.
-#pragma omp parallel if (!omp_in_parallel() && size >= kParallelSize)
-  {
-    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
-    // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec[j * nk_ + k]. Each half
-    // of each field is transformed by the half's own plan, on the field's own arrays.
-#pragma omp for schedule(static)
-    for (int task = 0; task < 2 * fields; ++task) {
-      const int h = task % 2, f = task / 2;
-      if (!forward_[h]) continue;
-      const auto [first, last] = half(h);
-      // The plan reads b directly where b is aligned as the plan's own array (FFTW's r2c leaves its
-      // input alone; same plan, same alignment: the same operations), else a copy of it.
-      const double* in = b[f] + first;
-      if (fftw_alignment_of(const_cast<double*>(in)) != fftw_alignment_of(real[f] + first)) {
-        std::memcpy(real[f] + first, in, sizeof(double) * (last - first));
-        in = real[f] + first;
-      }
-      const int first_row = h == 0 ? 0 : half_;
-      fftw_execute_dft_r2c(forward_[h], const_cast<double*>(in), reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_);
+  // Row half h of field f into the spectrum by the half's own plan, on the field's own arrays.
+  auto forward = [&](int h, int f) {
+    if (!forward_[h]) return;
+    const auto [first, last] = half(h);
+    // The plan reads b directly where b is aligned as the plan's own array (FFTW's r2c leaves its
+    // input alone; same plan, same alignment: the same operations), else a copy of it.
+    const double* in = b[f] + first;
+    if (fftw_alignment_of(const_cast<double*>(in)) != fftw_alignment_of(real[f] + first)) {
+      std::memcpy(real[f] + first, in, sizeof(double) * (last - first));
+      in = real[f] + first;
     }
-    // Each thread substitutes its own range of modes, [k0, k1), in every field.
-    const int k0 = t * nk_ / threads, k1 = (t + 1) * nk_ / threads;
+    const int first_row = h == 0 ? 0 : half_;
+    fftw_execute_dft_r2c(forward_[h], const_cast<double*>(in), reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_);
+  };
+  auto backward = [&](int h, int f) {
+    if (!backward_[h]) return;
+    const int first_row = h == 0 ? 0 : half_;
+    const auto [first, last] = half(h);
+    fftw_execute_dft_c2r(backward_[h], reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_, real[f] + first);
+    for (std::size_t i = first; i < last; ++i) x[f][i] = real[f][i] * scale;
+  };
+  // The substitutions of fields [f0, f1) over the modes [k0, k1). Every mode's arithmetic is the
+  // same whatever the range, so the split between threads does not change the result.
+  auto substitute = [&](int f0, int f1, int k0, int k1) {
     // c_j −= f c_q for every mode, f the factor entry (j, q).
     auto subtract = [&](int j, int q) {
       const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk_];
       const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk_];
       if (real_symbol_) {  // f real: both parts of c_q times f (what the complex path computes with Im f = 0)
-        for (int f = 0; f < fields; ++f) {
+        for (int f = f0; f < f1; ++f) {
           double* cj = spec[f] + 2 * std::size_t(j) * nk_;
           const double* cq = spec[f] + 2 * std::size_t(q) * nk_;
           for (int k = k0; k < k1; ++k) {
@@ -171,7 +172,7 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
         }
         return;
       }
-      for (int f = 0; f < fields; ++f) {
+      for (int f = f0; f < f1; ++f) {
         double* s = spec[f];
         for (int k = k0; k < k1; ++k) {
           const double cr = s[2 * (std::size_t(q) * nk_ + k)], ci = s[2 * (std::size_t(q) * nk_ + k) + 1];
@@ -189,7 +190,7 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
       const double* dr = &fre_[(std::size_t(j) * w + band_) * nk_];
       const double* di = &fim_[(std::size_t(j) * w + band_) * nk_];
       if (real_symbol_) {
-        for (int f = 0; f < fields; ++f) {
+        for (int f = f0; f < f1; ++f) {
           double* cj = spec[f] + 2 * std::size_t(j) * nk_;
           for (int k = k0; k < k1; ++k) {
             cj[2 * k] *= dr[k];
@@ -198,7 +199,7 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
         }
         continue;
       }
-      for (int f = 0; f < fields; ++f) {
+      for (int f = f0; f < f1; ++f) {
         double* s = spec[f];
         for (int k = k0; k < k1; ++k) {
           const double cr = s[2 * (std::size_t(j) * nk_ + k)], ci = s[2 * (std::size_t(j) * nk_ + k) + 1];
@@ -207,16 +208,37 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
         }
       }
     }
+  };
+  // Threads only pay on large grids (the wide channel's 320 x 159 and its coarse 160 x 81); small ones stay serial.
+  const bool threaded = !omp_in_parallel() && size >= kParallelSize;
+  if (threaded && fields == 2 && omp_get_max_threads() >= 2) {
+    // Two fields on two or more threads: a thread solves one field whole (both halves' transforms,
+    // every mode's substitutions), so that no field crosses between the cores and no barrier
+    // waits inside the solve. Step 4's pair on the wide grid, in place, two threads: 159-177 us
+    // against 213-259 us with the halves and modes shared, 304-325 us on one thread (2026-11-26,
+    // alternating runs); the 50 cells' crowd step 6-8 % faster, 18 % in the machine's slow phase
+    // (bench_channel --crowd-only, the two ways alternating in one run). The same operations per
+    // value, so the same bits as one thread or solve().
+#pragma omp parallel num_threads(2)
+    {
+      const int f = omp_get_thread_num();
+      for (int h = 0; h < 2; ++h) forward(h, f);
+      substitute(f, f + 1, 0, nk_);
+      for (int h = 0; h < 2; ++h) backward(h, f);
+    }
+    return;
+  }
+#pragma omp parallel if (threaded)
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    // The spectrum is rows_ rows of nk_ modes: row j of mode k at spec[j * nk_ + k].
+#pragma omp for schedule(static)
+    for (int task = 0; task < 2 * fields; ++task) forward(task % 2, task / 2);
+    // Each thread substitutes its own range of modes, [k0, k1), in every field.
+    substitute(0, fields, t * nk_ / threads, (t + 1) * nk_ / threads);
 #pragma omp barrier
 #pragma omp for schedule(static)
-    for (int task = 0; task < 2 * fields; ++task) {
-      const int h = task % 2, f = task / 2;
-      if (!backward_[h]) continue;
-      const int first_row = h == 0 ? 0 : half_;
-      const auto [first, last] = half(h);
-      fftw_execute_dft_c2r(backward_[h], reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_, real[f] + first);
-      for (std::size_t i = first; i < last; ++i) x[f][i] = real[f][i] * scale;
-    }
+    for (int task = 0; task < 2 * fields; ++task) backward(task % 2, task / 2);
   }
 }
 

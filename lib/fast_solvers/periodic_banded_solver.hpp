@@ -9,9 +9,9 @@
 // (a "probe"), factor every Â_k (Hermitian and banded) by LU once, and then each solve costs one
 // real FFT pair in x1 plus nx/2+1 banded triangular solves. An operator symmetric in x1
 // (a_{j,j'}(d) = a_{j,j'}(−d) for every tap, as step 4's) has a real symbol; its substitutions
-// multiply by reals only. With OpenMP the rows' transforms
-// and the modes' substitutions are shared between threads (each mode and row is computed the
-// same way whatever the thread count, so the result does not depend on it).
+// multiply by reals only. With OpenMP one field's rows' transforms and modes' substitutions are
+// shared between threads; two fields (solve_pair) go one to a thread, whole. Each mode and row is
+// computed the same way whatever the thread count, so the result does not depend on it.
 //
 // A singular A whose kernel is the constant field (a Neumann problem) is handled at k = 0 by
 // replacing the last equation with x̂_0[rows-1] = 0; the solution is then defined up to the
