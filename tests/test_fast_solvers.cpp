@@ -232,27 +232,45 @@ namespace rbc {
 namespace {
 
 TEST(FemOperators, DivergenceStencilEqualsTheAssembledMatrixAndItsTranspose) {
-  // The matrix-free B = R D and Bᵀ agree with the element-by-element assembly to round-off.
+  // The matrix-free B = R D and Bᵀ agree with the element-by-element assembly to round-off, and
+  // give the same bits on any number of threads (each thread sweeps its own rows and makes the
+  // rows at the edge of its share again: 3 and 5 threads cut the rows unevenly, down to one
+  // coarse row a thread).
   const ChannelMesh m = ChannelMesh::make(6e-6, 4e-6, 0.5e-6);
   const SparseMatrix B = assemble_divergence(m);
   const DivergenceStencil S(m);
   const std::size_t nv = m.velocity_nodes();
-  std::vector<double> u = random_vector(2 * nv, 5);
-  std::vector<double> u1(u.begin(), u.begin() + nv), u2(u.begin() + nv, u.end()), div;
-  S.apply(u1, u2, div);
-  const Eigen::VectorXd ref = B * Eigen::Map<const Eigen::VectorXd>(u.data(), Eigen::Index(u.size()));
-  const double scale = ref.lpNorm<Eigen::Infinity>();
-  for (Eigen::Index q = 0; q < ref.size(); ++q) EXPECT_NEAR(div[q], ref[q], 1e-13 * scale);
+  const std::vector<double> u = random_vector(2 * nv, 5);
+  const std::vector<double> u1(u.begin(), u.begin() + nv), u2(u.begin() + nv, u.end());
   const std::vector<double> p = random_vector(m.pressure_nodes(), 6);
-  std::vector<double> g1, g2;
-  S.apply_transpose(p, g1, g2);
+  const Eigen::VectorXd ref = B * Eigen::Map<const Eigen::VectorXd>(u.data(), Eigen::Index(u.size()));
   const Eigen::VectorXd gt = B.transpose() * Eigen::Map<const Eigen::VectorXd>(p.data(), Eigen::Index(p.size()));
-  const double gs = gt.lpNorm<Eigen::Infinity>();
-  for (int j = 1; j < m.ny; ++j)
-    for (int i = 0; i < m.nx; ++i) {
-      EXPECT_NEAR(g1[m.v(i, j)], gt[m.v(i, j)], 1e-13 * gs);
-      EXPECT_NEAR(g2[m.v(i, j)], gt[nv + m.v(i, j)], 1e-13 * gs);
+  const double scale = ref.lpNorm<Eigen::Infinity>(), gs = gt.lpNorm<Eigen::Infinity>();
+  const int threads = omp_get_max_threads();
+  std::vector<double> div_one, g1_one, g2_one;
+  for (int t : {1, 2, 3, 5}) {
+    omp_set_num_threads(t);
+    std::vector<double> div, g1, g2;
+    S.apply(u1, u2, div);
+    S.apply_transpose(p, g1, g2);
+    ASSERT_EQ(div.size(), m.pressure_nodes());
+    for (Eigen::Index q = 0; q < ref.size(); ++q) EXPECT_NEAR(div[q], ref[q], 1e-13 * scale) << t << " threads";
+    for (int j = 1; j < m.ny; ++j)
+      for (int i = 0; i < m.nx; ++i) {
+        EXPECT_NEAR(g1[m.v(i, j)], gt[m.v(i, j)], 1e-13 * gs) << t << " threads";
+        EXPECT_NEAR(g2[m.v(i, j)], gt[nv + m.v(i, j)], 1e-13 * gs) << t << " threads";
+      }
+    for (int i = 0; i < m.nx; ++i)  // the wall rows are not unknowns: zero
+      EXPECT_TRUE(g1[m.v(i, 0)] == 0 && g2[m.v(i, 0)] == 0 && g1[m.v(i, m.ny)] == 0 && g2[m.v(i, m.ny)] == 0);
+    if (t == 1) {
+      div_one = div, g1_one = g1, g2_one = g2;
+    } else {
+      EXPECT_EQ(div, div_one) << t << " threads";
+      EXPECT_EQ(g1, g1_one) << t << " threads";
+      EXPECT_EQ(g2, g2_one) << t << " threads";
     }
+  }
+  omp_set_num_threads(threads);
 }
 
 }  // namespace

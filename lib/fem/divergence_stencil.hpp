@@ -24,7 +24,6 @@ class DivergenceStencil {
 
  private:
   ChannelMesh m_;
-  mutable std::vector<double> fine_, tri_lower_, tri_upper_;
 };
 
 }  // namespace rbc
