@@ -221,10 +221,12 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
     // value, so the same bits as one thread or solve().
 #pragma omp parallel num_threads(2)
     {
-      const int f = omp_get_thread_num();
-      for (int h = 0; h < 2; ++h) forward(h, f);
-      substitute(f, f + 1, 0, nk_);
-      for (int h = 0; h < 2; ++h) backward(h, f);
+      // (A team of one, if the runtime gives no second thread, solves both fields.)
+      for (int f = omp_get_thread_num(); f < 2; f += omp_get_num_threads()) {
+        for (int h = 0; h < 2; ++h) forward(h, f);
+        substitute(f, f + 1, 0, nk_);
+        for (int h = 0; h < 2; ++h) backward(h, f);
+      }
     }
     return;
   }

@@ -10,9 +10,10 @@ namespace {
 // arrays do not overlap (restrict, kept by not inlining: the compiler then vectorises the loop
 // without run-time alias checks, of which it would need more than it makes); the last column
 // wraps, apart. Every value is the expression of the loop this replaced (same bits).
-[[gnu::noinline]] void triangle_row(int nx, double inv_h, const double* __restrict a, const double* __restrict b, const double* __restrict vlx,
-                  const double* __restrict vly, const double* __restrict vux, const double* __restrict vuy,
-                  double* __restrict gl, double* __restrict gu) {
+[[gnu::noinline]] void triangle_row(int nx, double inv_h, const double* __restrict a, const double* __restrict b,
+                                    const double* __restrict vlx, const double* __restrict vly,
+                                    const double* __restrict vux, const double* __restrict vuy, double* __restrict gl,
+                                    double* __restrict gu) {
   auto triangle = [&](int i, int ip) {
     gl[i] = (vlx[i] * (a[ip] - a[i]) + vly[i] * (b[i] - a[i])) * inv_h;
     gu[i] = (vux[i] * (b[ip] - b[i]) + vuy[i] * (b[ip] - a[ip])) * inv_h;
