@@ -10,7 +10,7 @@ namespace rbc {
 DivergenceStencil::DivergenceStencil(const ChannelMesh& mesh) : m_(mesh) {}
 
 namespace {
-// A thread's rolling rows: n rows of nx values each, reused from call to call.
+// A thread's rolling rows (n values), kept from call to call.
 double* rows_buffer(std::size_t n) {
   thread_local std::vector<double> buffer;
   if (buffer.size() < n) buffer.resize(n);
