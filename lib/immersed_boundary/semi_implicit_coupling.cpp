@@ -64,11 +64,17 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   ++cost_.product_count;
   const int ncells = int(cells.size());
   // h² S K v, spread straight into step 4's right-hand sides (weights φ_x φ_y: S has 1/h²).
+  // K v first, every cell on its own (shared evenly by the threads), then the spreading, whose
+  // shares follow the cells' places (below).
   const int nx = mesh_.nx, ny = mesh_.ny;
-  auto spread = [&](int c, double* f1, double* f2) {
+  kv_.resize(v.size());
+#pragma omp parallel for schedule(static)
+  for (int c = 0; c < ncells; ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
-    const Eigen::VectorXd kv = blocks_[c].K.apply(v.segment(offset_[c], n));
-    spread_forces_interior(mesh_, move_.stencils()[c], kv.data(), f1, f2);
+    kv_.segment(offset_[c], n) = blocks_[c].K.apply(v.segment(offset_[c], n));
+  }
+  auto spread = [&](int c, double* f1, double* f2) {
+    spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
   };
   auto [f1, f2] = flow_.diffusion().zeroed_force_rhs();
   if (!slab_cells_.empty()) {

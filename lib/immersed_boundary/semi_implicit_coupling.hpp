@@ -134,6 +134,7 @@ class SemiImplicitMembraneStep {
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
   VelocityField work_;                        // GMRES matrix-vector product: the velocity
+  Eigen::VectorXd kv_;                        // and K v, the nodes' forces it spreads
   std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
   int products_in_step_ = 0;
   Eigen::VectorXd combination_;               // U = Σ combination_p z_p over those products

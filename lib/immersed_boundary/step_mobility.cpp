@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include "immersed_boundary/immersed_boundary.hpp"
+#include "immersed_boundary/phase_average_kernel.hpp"
 #include "immersed_boundary/peskin_delta.hpp"
 
 namespace rbc {
@@ -147,18 +148,7 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
             // The common case: the source's four rows are consecutive slots of H at the two
             // samples around z, sixteen contiguous values each.
             const float* h0 = slab + (std::size_t(sample[l]) * W + d) * 4;
-            const float* h1 = h0 + std::size_t(W) * 4;
-            const double f = frac[l];
-            const double* wl = &wy[4 * std::size_t(l)];
-            float b0[4], b1[4];
-            for (int q = 0; q < 4; ++q) {
-              b1[q] = float(wk * f * wl[q]);
-              b0[q] = float(wk * wl[q]) - b1[q];
-            }
-            float sum[4] = {0, 0, 0, 0};
-            for (int q = 0; q < 4; ++q)
-              for (int v = 0; v < 4; ++v) sum[v] += b0[q] * h0[4 * q + v] + b1[q] * h1[4 * q + v];
-            for (int v = 0; v < 4; ++v) a[v] += sum[v];
+            detail::add_interpolated_pair(h0, h0 + std::size_t(W) * 4, wk, frac[l], &wy[4 * std::size_t(l)], a);
             continue;
           }
           for (int q = 0; q < 4; ++q) {
