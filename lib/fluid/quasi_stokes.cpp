@@ -83,8 +83,10 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
   const double bnorm = std::sqrt(dot(b, b));
   // A divergence at round-off level (a parallel flow) needs no correction: compare ‖b‖ with the
   // size its terms have, (ρ/Δt) max|u| ‖row sums of |B|‖.
-  double umax = 0;
-  for (std::size_t n = 0; n < u.u1.size(); ++n) umax = std::max({umax, std::abs(u.u1[n]), std::abs(u.u2[n])});
+  double umax = 0;  // a maximum is exact in any order: the threads share it
+  const std::ptrdiff_t size = std::ptrdiff_t(u.u1.size());
+#pragma omp parallel for schedule(static) reduction(max : umax)
+  for (std::ptrdiff_t n = 0; n < size; ++n) umax = std::max({umax, std::abs(u.u1[n]), std::abs(u.u2[n])});
   const double floor = 1e-13 * rho / dt * umax * row_abs_norm_;
   if (bnorm <= floor) {
     p.assign(p.size(), 0.0);

@@ -305,11 +305,12 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // (Several cells: the projection as the products make it, without CG's residual checks; with
   // the exact Schur preconditioner project() takes that one iteration too, and one-cell runs keep
   // project(), bit for bit as before.)
-  projected_ = u;
-  if (ncells > 1)
-    flow_.projection().project_exact(projected_, projected_, flow_.params().fluid.density, dt_);
-  else
+  if (ncells > 1) {
+    flow_.projection().project_exact(u, projected_, flow_.params().fluid.density, dt_);
+  } else {
+    projected_ = u;
     flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
+  }
   // The nodes' stencils at r^{n+1}: step 2 made them to spread F^{n+1}.
   const auto& stencils = move_.stencils();
   if (stencils.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");

@@ -109,6 +109,7 @@ void StepMobility::prepare_phase_average(double extent) {
 }
 
 void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) const {
+  constexpr int kPrefetchAhead = 4;  // sources
   const int n = int(r.size()), nx = m_.nx, m = kPhaseSamples, W = 2 * J_ + 1, S = 2 * Z_ * m + 1;
   std::vector<int> row(n);  // interior row of each node's first stencil row
   std::vector<double> wy(std::size_t(n) * 4), x(n);
@@ -142,6 +143,18 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
         const double wk = wy[4 * std::size_t(k) + p];
         const float* slab = &H_[std::size_t(j) * W * S * 4];
         for (int l = 0; l < n; ++l) {
+          // The slab's lines a few sources ahead, asked for now: the sources go round the
+          // membrane, so where they read H jumps about, which the hardware cannot guess.
+          if (const int la = l + kPrefetchAhead; la < n) {
+            const int da = row[la] - j + J_;
+            if (near[la] && da >= 0 && da + 3 < W) {
+              const float* p0 = slab + (std::size_t(sample[la]) * W + da) * 4;
+              __builtin_prefetch(p0);
+              __builtin_prefetch(p0 + 15);
+              __builtin_prefetch(p0 + std::size_t(W) * 4);
+              __builtin_prefetch(p0 + std::size_t(W) * 4 + 15);
+            }
+          }
           double* a = &acc[4 * std::size_t(l)];
           const int d = row[l] - j + J_;  // offset slot of the source's first row
           if (near[l] && d >= 0 && d + 3 < W && row[l] >= 0 && row[l] + 3 < rows_) {
