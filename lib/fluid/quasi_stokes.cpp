@@ -32,6 +32,7 @@ QuasiStokesProjection::QuasiStokesProjection(const ChannelMesh& mesh, PressurePr
   weights_.assign(mesh.pressure_nodes(), 0.0);
   for (int J = 0; J < mesh.pny(); ++J)
     for (int I = 0; I < mesh.pnx(); ++I) weights_[mesh.p(I, J)] = (J == 0 || J == mesh.pny() - 1) ? 0.5 : 1.0;
+  for (double w : weights_) total_weight_ += w;
   for (auto* v : {&r_, &z_, &d_, &sd_, &b_}) v->assign(mesh.pressure_nodes(), 0.0);
 
   exact_pc_ = (pc == PressurePreconditioner::schur);
@@ -58,10 +59,20 @@ void QuasiStokesProjection::apply_schur(const std::vector<double>& p, std::vecto
 }
 
 void QuasiStokesProjection::remove_mean(std::vector<double>& p) const {
-  double s = 0, w = 0;
-  for (std::size_t k = 0; k < p.size(); ++k) { s += weights_[k] * p[k]; w += weights_[k]; }
-  const double mean = s / w;
-  for (double& x : p) x -= mean;
+  // The weighted sum in node order on one thread (its bits do not depend on the threads); the
+  // weights' own sum is the constructor's, in the same order.
+  double s = 0;
+  for (std::size_t k = 0; k < p.size(); ++k) s += weights_[k] * p[k];
+  const double mean = s / total_weight_;
+  const std::ptrdiff_t size = std::ptrdiff_t(p.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < size; ++k) p[k] -= mean;
+}
+
+void QuasiStokesProjection::scale(std::vector<double>& b, double c) {
+  const std::ptrdiff_t size = std::ptrdiff_t(b.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < size; ++k) b[k] *= c;
 }
 
 void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z) {
@@ -79,7 +90,7 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
   // Right-hand side b = −(ρ/Δt) B uⁿ.
   std::vector<double>& b = b_;
   divergence(u, b);
-  for (double& x : b) x *= -rho / dt;
+  scale(b, -rho / dt);
   const double bnorm = std::sqrt(dot(b, b));
   // A divergence at round-off level (a parallel flow) needs no correction: compare ‖b‖ with the
   // size its terms have, (ρ/Δt) max|u| ‖row sums of |B|‖.
@@ -162,7 +173,7 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
     return;
   }
   divergence(u, b_);
-  for (double& x : b_) x *= -rho / dt;
+  scale(b_, -rho / dt);
   precondition(b_, z_);  // p = S⁻¹ b, mean-zero
   add_pressure_gradient(u, z_, rho, dt, out);
 }

@@ -48,6 +48,7 @@ class QuasiStokesProjection {
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
   void remove_mean(std::vector<double>& p) const;
+  static void scale(std::vector<double>& b, double c);  // b *= c, elementwise (threads share it)
 
  private:
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
@@ -59,6 +60,7 @@ class QuasiStokesProjection {
   DivergenceStencil B_;            // B and Bᵀ (Bᵀ on the interior velocity nodes only)
   double inv_mass_;                // 1/M = 1/h² on the interior nodes
   std::vector<double> weights_;    // lumped weights of T_2h for the mean
+  double total_weight_ = 0;        // their sum
   std::unique_ptr<PeriodicBandedSolver> pc_;
   double tol_;
   bool exact_pc_ = false;
