@@ -243,7 +243,12 @@ TEST(StepMobility, ThePhaseAveragedPairKernelKeepsItsStatedArithmeticBitForBit) 
         const volatile double wkw = wk * wl[q];
         const volatile float b0 = float(wkw) - b1;
         const volatile float product = b1 * h1[4 * q + v];
+#ifdef __FMA__
         const volatile float t = std::fma(float(b0), h0[4 * q + v], float(product));
+#else  // the kernel's stated arithmetic without fused multiply-adds: both products rounded
+        const volatile float first = b0 * h0[4 * q + v];
+        const volatile float t = first + product;
+#endif
         sum = sum + t;
       }
       const volatile double widened = double(sum);

@@ -16,10 +16,11 @@ namespace rbc::detail {
 //
 // (the linear interpolation in z folded into the weights), summed in single precision. The
 // arithmetic is fixed, so that the blocks (and every run) do not depend on how the compiler
-// schedules it: each term t_q = fma(b0_q, h0_q, b1_q h1_q) (b1_q h1_q rounded first), the sum
+// schedules it: each term t_q = fma(b0_q, h0_q, b1_q h1_q) (b1_q h1_q rounded first; on a
+// machine without fused multiply-adds both products rounded, then added), the sum
 // (((0 + t_0) + t_1) + t_2) + t_3 in that order, then added to a in double. With AVX2 two rows q
-// at a time in one 8-float register (the same operations lane by lane: the same bits as the
-// portable form, which std::fma makes explicit where the machine has fused multiply-adds).
+// at a time in one 8-float register: the same operations lane by lane, so the same bits as the
+// portable form.
 inline void add_interpolated_pair(const float* h0, const float* h1, double wk, double f, const double* wl, double* a) {
 #if defined(__AVX2__) && defined(__FMA__)
   const __m256d w = _mm256_loadu_pd(wl);
@@ -46,11 +47,12 @@ inline void add_interpolated_pair(const float* h0, const float* h1, double wk, d
   float sum[4] = {0, 0, 0, 0};
   for (int q = 0; q < 4; ++q)
     for (int v = 0; v < 4; ++v) {
-#ifdef __FMA__
       const float product = b1[q] * h1[4 * q + v];
+#ifdef __FMA__
       sum[v] = sum[v] + std::fma(b0[q], h0[4 * q + v], product);
 #else
-      sum[v] += b0[q] * h0[4 * q + v] + b1[q] * h1[4 * q + v];
+      const float first = b0[q] * h0[4 * q + v];
+      sum[v] = sum[v] + (first + product);
 #endif
     }
   for (int v = 0; v < 4; ++v) a[v] += sum[v];
