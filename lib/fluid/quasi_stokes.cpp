@@ -16,6 +16,12 @@ using CVec = Eigen::Map<const Eigen::VectorXd>;
 double dot(const std::vector<double>& a, const std::vector<double>& b) {
   return CVec(a.data(), Eigen::Index(a.size())).dot(CVec(b.data(), Eigen::Index(b.size())));
 }
+// b *= c, elementwise: the threads share it.
+void scale(std::vector<double>& b, double c) {
+  const std::ptrdiff_t size = std::ptrdiff_t(b.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < size; ++k) b[k] *= c;
+}
 }  // namespace
 
 PressurePreconditioner parse_pressure_preconditioner(const std::string& name) {
@@ -69,11 +75,6 @@ void QuasiStokesProjection::remove_mean(std::vector<double>& p) const {
   for (std::ptrdiff_t k = 0; k < size; ++k) p[k] -= mean;
 }
 
-void QuasiStokesProjection::scale(std::vector<double>& b, double c) {
-  const std::ptrdiff_t size = std::ptrdiff_t(b.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < size; ++k) b[k] *= c;
-}
 
 void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z) {
   pc_->solve(r.data(), z.data());

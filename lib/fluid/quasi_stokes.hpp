@@ -48,7 +48,6 @@ class QuasiStokesProjection {
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
   void remove_mean(std::vector<double>& p) const;
-  static void scale(std::vector<double>& b, double c);  // b *= c, elementwise (threads share it)
 
  private:
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;

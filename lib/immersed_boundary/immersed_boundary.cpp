@@ -38,10 +38,10 @@ void spread_forces_interior(const ChannelMesh& m, const std::vector<NodeStencil>
       const int j = s.j0 + b;
       if (j <= 0 || j >= m.ny) continue;  // walls and beyond: dropped
       const std::size_t row = std::size_t(j - 1) * m.nx;
+      const double fx = F[2 * k], fy = F[2 * k + 1], wy = s.wy[b];
       if (s.i0 + 3 < m.nx) {  // four consecutive nodes (the common case: the compiler vectorises it)
         double* __restrict g1 = f1 + row + s.i0;
         double* __restrict g2 = f2 + row + s.i0;
-        const double fx = F[2 * k], fy = F[2 * k + 1], wy = s.wy[b];
 #pragma omp simd
         for (int a = 0; a < 4; ++a) {
           const double w = s.wx[a] * wy;
@@ -51,9 +51,9 @@ void spread_forces_interior(const ChannelMesh& m, const std::vector<NodeStencil>
         continue;
       }
       for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {  // the stencil wraps around x1
-        const double w = s.wx[a] * s.wy[b];
-        f1[row + i] += w * F[2 * k];
-        f2[row + i] += w * F[2 * k + 1];
+        const double w = s.wx[a] * wy;
+        f1[row + i] += w * fx;
+        f2[row + i] += w * fy;
       }
     }
   }
