@@ -3,7 +3,7 @@
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
 // Then the constriction (issue 15): the same steps with and without the fictitious domain.
 //   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only | --crowd-only]
-//                           [--crowd-steps N] [--crowd-from DIR]
+//                           [--crowd-steps N] [--crowd-from DIR] [--crowd-case NAME] [--coupling-start linear|constant]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
 // transforms along x1 over the ny + 1 rows, which is what the fast solvers actually use.
@@ -283,15 +283,18 @@ static void bench_disks() {
 // With --crowd-from DIR it starts instead from the newest checkpoint in DIR (a run's output
 // folder, e.g. results/cell_free_layer/n100 part way), to measure the steps of a later phase.
 // --crowd-case NAME takes another case of cell_free_layer (--list-cases) from the developed
-// profile, e.g. n100_study_pressure (the study's form of the pressure).
-static void bench_crowd(int steps, const std::string& from, const std::string& name) {
+// profile, e.g. n100_study_pressure (the study's form of the pressure). --coupling-start
+// linear|constant sets where the coupled GMRES starts (a checkpoint made before 2026-11-26 holds
+// the linear start, the scenes' default then).
+static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start) {
   const FftPairs f = fft_pairs(320, 160);
   const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});
   const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
   if (c == all.end()) throw std::invalid_argument("bench_channel: --crowd-case " + name + " is not a case of cell_free_layer (--list-cases)");
-  const rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
-  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
-              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.repulsion_strength > 0 ? "on" : "off",
+  rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
+  if (!start.empty()) scene.coupling_start = start;  // --coupling-start (a checkpoint keeps the scene it was made with)
+  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
+              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), scene.repulsion_strength > 0 ? "on" : "off",
               from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
   constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
@@ -337,7 +340,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
-  std::string crowd_from, crowd_case = "n100";
+  std::string crowd_from, crowd_case = "n100", crowd_start;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
@@ -348,10 +351,15 @@ int main(int argc, char** argv) {
     if (std::string(argv[a]) == "--crowd-steps" && a + 1 < argc) crowd_steps = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--crowd-from" && a + 1 < argc) crowd_from = argv[a + 1];
     if (std::string(argv[a]) == "--crowd-case" && a + 1 < argc) crowd_case = argv[a + 1];
+    if (std::string(argv[a]) == "--coupling-start" && a + 1 < argc) crowd_start = argv[a + 1];
+  }
+  if (!crowd_start.empty() && crowd_start != "linear" && crowd_start != "constant") {
+    std::fprintf(stderr, "bench_channel: --coupling-start %s (allowed: linear, constant)\n", crowd_start.c_str());
+    return 2;
   }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps, crowd_from, crowd_case);
+    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start);
     return 0;
   }
   if (disks_only) {
@@ -403,6 +411,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps, crowd_from, crowd_case);
+  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start);
   return 0;
 }

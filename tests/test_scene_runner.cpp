@@ -85,6 +85,12 @@ TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
   expect_error(scene_error(kGood, {"time.coupling=implicit"}), {"[time] coupling", "explicit", "semi-implicit"});
   const std::string cell = "[[cell]]\ncenter = [2e-6, 1e-6]\nswelling_ratio = 0.55\n[membrane]\nradius = 0.5e-6\n";
   EXPECT_EQ(scene_error(kGood + cell, {"time.coupling=semi-implicit"}), "");
+  // Where the coupled GMRES starts: "linear" unless the scene says "constant"; anything else is named.
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_start, "linear");
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_start=constant"}).coupling_start,
+            "constant");
+  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_start=quadratic"}),
+               {"[solver] coupling_start", "linear", "constant"});
   // 25 um x 0.5 mm at h = 0.25 um: 100 x 2000 cells, a 24 GiB table.
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "channel.length=25e-6", "channel.height=0.5e-3"}),
                {"[time] coupling", "GiB", "coarser"});

@@ -171,9 +171,9 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // GMRES on (I + Δt M K) B⁻¹ y = b, U = B⁻¹ y, with B = blockdiag(I + Δt M_cc K_c): each cell's
   // own system (exact, from StepMobility), so only the cell-to-cell coupling is left to iterate.
   // Started near the solution (node velocities change little from step to step): we solve for
-  // the change, with the tolerance still relative to the full right-hand side. The start takes
-  // the last two steps' U on in a straight line, plus the cells' own response B⁻¹ to the part of
-  // the right-hand side that the straight line does not predict,
+  // the change, with the tolerance still relative to the full right-hand side. The linear start
+  // (Start::kLinear) takes the last two steps' U on in a straight line, plus the cells' own
+  // response B⁻¹ to the part of the right-hand side that the straight line does not predict,
   //
   //   x0 = 2 Uⁿ − Uⁿ⁻¹ + B⁻¹ (b − 2 bⁿ + bⁿ⁻¹)      (x0 = Uⁿ + B⁻¹ (b − bⁿ) at the second step):
   //
@@ -181,10 +181,20 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // membrane modes follow that jitter at once, which no extrapolation can; their own system does
   // (measured, 100 cells in the developed flow, 100 steps: initial residual ≈ 1e-2 → 2–6e-3 of
   // ‖b‖, 6.8 → 5.8 products per step; a quadratic extrapolation with the third difference of b
-  // did worse, 6.5).
+  // did worse, 6.5). The constant start (Start::kConstant) is the second step's form at every
+  // step, x0 = Uⁿ + B⁻¹ (b − bⁿ). What the start misses is mostly the last solve's own error,
+  // grown about a hundredfold by one step (the starting residual is ≈ 100 times the tolerance
+  // at 1e-4 and 1e-3, measured at 3e-6 s): a straight line through two solutions carries two
+  // such errors, and at larger Δt the trend it follows is worth less than that. Measured
+  // (2026-11-26, Δt = 3e-6 s, 300 steps from the end of each cell_free_layer run): GMRES
+  // iterations per step 8.47 → 7.74 (50 cells, seed 1), 7.58 → 6.89 (seed 2), 10.95 → 10.00
+  // (seed 3), 8.70 → 8.55, 8.47 → 8.15, 8.47 → 8.19 (100 cells, seeds 1–3), with 3–38 % fewer
+  // block rebuilds. From rest in the developed profile, the cells still accelerating, the
+  // straight line does better (100 cells: 4.1 against 6.2 products a step at 1.2e-6 s, 6.7
+  // against 7.5 at 2e-6 s), so it stays the default (paper/method/04_semi_implicit_coupling.md).
   const bool warm = last_U_.size() == rhs.size() && last_rhs_.size() == rhs.size();
   Eigen::VectorXd x0;
-  if (warm && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
+  if (warm && start_ == Start::kLinear && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
     x0 = 2.0 * last_U_ - before_last_U_ + precondition(rhs - 2.0 * last_rhs_ + before_last_rhs_);
   else if (warm)
     x0 = last_U_ + precondition(rhs - last_rhs_);

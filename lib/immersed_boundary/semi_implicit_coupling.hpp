@@ -91,6 +91,11 @@ class SemiImplicitMembraneStep {
   static constexpr int kRebuildAboveIterations = 12;
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
+  // Where GMRES starts (solve_coupled): the last two steps' solutions carried on in a straight
+  // line (kLinear, the default) or the last one (kConstant), each plus the blocks' response to
+  // the change of the right-hand side that the start does not predict.
+  enum class Start { kLinear, kConstant };
+  void set_start(Start start) { start_ = start; }
   // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
   void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
   // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
@@ -151,6 +156,7 @@ class SemiImplicitMembraneStep {
   bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes
   int fresh_blocks_after_ = kFreshBlocksAfter;
   bool x1_invariant_ = true;
+  Start start_ = Start::kLinear;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.

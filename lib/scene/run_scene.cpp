@@ -470,6 +470,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["dt"] = scene.dt;
   j["coupling"] = scene.coupling;
   j["projection"] = scene.projection;
+  if (scene.coupling == "semi-implicit" && cells.size() > 1) j["coupling_start"] = scene.coupling_start;  // GMRES's start (scene.hpp)
   if (!cells.empty())
     j["membrane"] = {{"units", scene.membrane_constants.units}, {"kl", sim.membrane().kl}, {"kb", sim.membrane().kb},
                      {"ks", sim.membrane().ks}, {"area_penalty", scene.area_penalty}, {"nodes", scene.membrane_nodes},

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "membrane/membrane_crossing.hpp"
@@ -46,8 +47,13 @@ void Simulation::build_cells() {
     if (!shapes.count(key)) shapes.emplace(key, prepare_shape(model_of(model_, c.kb_scale), c.swelling_ratio));
     cells_.push_back(make_cell(shapes.at(key), c.swelling_ratio, c.center, c.angle, c.kb_scale));
   }
-  if (scene.coupling == "semi-implicit")
+  if (scene.coupling == "semi-implicit") {
     semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance);
+    if (scene.coupling_start != "linear" && scene.coupling_start != "constant")
+      throw std::invalid_argument("[solver] coupling_start: \"" + scene.coupling_start + "\" (allowed: \"linear\", \"constant\")");
+    semi_implicit_step_->set_start(scene.coupling_start == "constant" ? SemiImplicitMembraneStep::Start::kConstant
+                                                                     : SemiImplicitMembraneStep::Start::kLinear);
+  }
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
   // The scene's membrane repulsion (not in the study; off unless [repulsion] strength > 0).
