@@ -93,8 +93,9 @@ struct Scene {
   double coupling_tolerance = 1e-4;
   // Where that GMRES starts (SemiImplicitMembraneStep::Start): "linear", the last two steps'
   // solutions carried on in a straight line, or "constant", the last one. Either converges to the
-  // same tolerance; which needs fewer iterations depends on Δt (measured: linear at 1.2e-6 and
-  // 2e-6 s, constant at 3e-6 s in the crowded channel, experiments/cell_free_layer).
+  // same tolerance; which needs fewer iterations depends on the flow and Δt (measured: linear for
+  // 100 cells starting in the developed flow at 1.2e-6–4e-6 s, constant in cell_free_layer's
+  // developed crowd at 3e-6 s; semi_implicit_coupling.cpp, solve_coupled).
   std::string coupling_start = "linear";
   double output_every = 0;  // s; 0 means end/100 (at least dt)
   bool vtk = false;
