@@ -194,6 +194,39 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
 }
 
+// Several cells, semi-implicit: GMRES's start and tolerance are part of the scheme too. The summary
+// is written by hand here (a run of two cells would take seconds for a check of the reading).
+TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse_start";
+  std::filesystem::remove_all(out);
+  Scene scene = parse_scene(kGood, "scene.toml");
+  run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  scene.coupling = "semi-implicit";
+  scene.cells = {CellSpec{{1e-6, 1e-6}, 0.7, 0.0}, CellSpec{{3e-6, 1e-6}, 0.7, 0.0}};
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  j["coupling"] = "semi-implicit";
+  const auto write = [&] { std::ofstream(out / "summary.json") << j.dump(); };
+  write();  // no keys: an older summary, the linear start at 1e-4
+  ASSERT_EQ(scene.coupling_start, "linear");
+  ASSERT_EQ(scene.coupling_tolerance, 1e-4);
+  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
+  Scene constant = scene;
+  constant.coupling_start = "constant";
+  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
+  j["coupling_start"] = "constant";
+  j["coupling_tolerance"] = 1e-4;
+  write();
+  EXPECT_TRUE(read_finished_run(out.string(), constant).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), scene).has_value());
+  Scene tighter = constant;
+  tighter.coupling_tolerance = 1e-5;
+  EXPECT_FALSE(read_finished_run(out.string(), tighter).has_value());
+  Scene one = constant;  // one cell: its block is its whole system, GMRES does not run
+  one.cells.pop_back();
+  one.coupling_start = "linear";
+  EXPECT_TRUE(read_finished_run(out.string(), one).has_value());
+}
+
 TEST(SceneRunner, UnwritableOutputFolderIsASceneError) {
   const Scene scene = parse_scene(kGood, "scene.toml");
   EXPECT_THROW(run_scene(scene, {.out_dir = "/proc/rbcflow-cannot-write-here", .threads = 1, .progress = false}), SceneError);
