@@ -194,8 +194,9 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
 }
 
-// Several cells, semi-implicit: GMRES's start and tolerance are part of the scheme too. The summary
-// is written by hand here (a run of two cells would take seconds for a check of the reading).
+// Where the semi-implicit coupling iterates (several cells, or one with obstacles), GMRES's start
+// and tolerance are part of the scheme too. The summary is written by hand here (a run of two
+// cells would take seconds for a check of the reading).
 TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
   const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse_start";
   std::filesystem::remove_all(out);
@@ -224,6 +225,10 @@ TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
   Scene one = constant;  // one cell: its block is its whole system, GMRES does not run
   one.cells.pop_back();
   one.coupling_start = "linear";
+  EXPECT_TRUE(read_finished_run(out.string(), one).has_value());
+  one.obstacles = {Obstacle{{1e-6, 2e-6}, {0.0, 0.5e-6}, "bottom"}};  // ... unless an obstacle makes it iterate
+  EXPECT_FALSE(read_finished_run(out.string(), one).has_value());
+  one.coupling_start = "constant";
   EXPECT_TRUE(read_finished_run(out.string(), one).has_value());
 }
 

@@ -34,6 +34,13 @@ void prepare_output_dir(const std::string& dir) {
 
 namespace {
 
+// Whether the semi-implicit coupling solves its cells' system by GMRES, whose start and
+// tolerance then shape the run: several cells, or one in a fluid that obstacles or disks make
+// uneven along x1 (its own block is then only a preconditioner: semi_implicit_coupling.hpp).
+bool coupling_by_gmres(const Scene& s) {
+  return s.coupling == "semi-implicit" && (s.cells.size() > 1 || (!s.cells.empty() && (!s.obstacles.empty() || !s.disks.empty())));
+}
+
 // Capillary numbers of the membrane in the cell-free flow (wall shear rate γ̇ = 6 U0 / H):
 //   stretching  Ca_l = μ γ̇ R0 l0 / k_l    (viscous force on a spring over its elastic force)
 //   bending     Ca_b = μ γ̇ R0³ / (k_b l0 / 4)
@@ -470,7 +477,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["dt"] = scene.dt;
   j["coupling"] = scene.coupling;
   j["projection"] = scene.projection;
-  if (scene.coupling == "semi-implicit" && cells.size() > 1) {  // GMRES's start and tolerance (scene.hpp): they change the bits
+  if (coupling_by_gmres(scene)) {  // GMRES's start and tolerance (scene.hpp): they change the bits
     j["coupling_start"] = scene.coupling_start;
     j["coupling_tolerance"] = scene.coupling_tolerance;
   }
@@ -497,10 +504,10 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
         j.value("projection", std::string("study")) != scene.projection ||
         std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
-    // Several cells, semi-implicit: where GMRES starts and where it stops change the run like a
-    // start perturbation (a summary without the keys is older than them: the straight-line start
-    // and 1e-4, the only ones then).
-    if (scene.coupling == "semi-implicit" && scene.cells.size() > 1 &&
+    // Where the coupling's GMRES starts and where it stops change the run like a start
+    // perturbation (a summary without the keys is older than them: the straight-line start and
+    // 1e-4, the only ones then).
+    if (coupling_by_gmres(scene) &&
         (j.value("coupling_start", std::string("linear")) != scene.coupling_start ||
          j.value("coupling_tolerance", 1e-4) != scene.coupling_tolerance))
       return std::nullopt;
