@@ -273,5 +273,45 @@ TEST(FemOperators, DivergenceStencilEqualsTheAssembledMatrixAndItsTranspose) {
   omp_set_num_threads(threads);
 }
 
+TEST(FemOperators, TheProjectionsUpdateSweepIsTheVelocityPlusTheScaledTranspose) {
+  // add_transpose (the projection's out = u + c Bᵀ p, in Bᵀ's own sweep) against apply_transpose
+  // and the sum made apart: equal to round-off of the sum (1e-15 of its size; a wrong node or
+  // row errs by O(1)), the wall rows exactly u, in place as well, and the same bits on 1, 2, 3
+  // and 5 threads.
+  const ChannelMesh m = ChannelMesh::make(6e-6, 4e-6, 0.5e-6);
+  const DivergenceStencil S(m);
+  const std::size_t nv = m.velocity_nodes();
+  const std::vector<double> u = random_vector(2 * nv, 7), p = random_vector(m.pressure_nodes(), 8);
+  const std::vector<double> u1(u.begin(), u.begin() + nv), u2(u.begin() + nv, u.end());
+  const double c = 0.37;
+  std::vector<double> g1, g2;
+  S.apply_transpose(p, g1, g2);
+  const int threads = omp_get_max_threads();
+  std::vector<double> one1, one2;
+  for (int t : {1, 2, 3, 5}) {
+    omp_set_num_threads(t);
+    std::vector<double> o1, o2;
+    S.add_transpose(p, c, u1, u2, o1, o2);
+    ASSERT_EQ(o1.size(), nv);
+    for (std::size_t k = 0; k < nv; ++k) {
+      EXPECT_NEAR(o1[k], u1[k] + c * g1[k], 1e-15 * (std::abs(u1[k]) + std::abs(c * g1[k]))) << k << ", " << t << " threads";
+      EXPECT_NEAR(o2[k], u2[k] + c * g2[k], 1e-15 * (std::abs(u2[k]) + std::abs(c * g2[k]))) << k << ", " << t << " threads";
+    }
+    for (int i = 0; i < m.nx; ++i)
+      EXPECT_TRUE(o1[m.v(i, 0)] == u1[m.v(i, 0)] && o2[m.v(i, m.ny)] == u2[m.v(i, m.ny)]);
+    std::vector<double> in1 = u1, in2 = u2;  // in place
+    S.add_transpose(p, c, in1, in2, in1, in2);
+    EXPECT_EQ(in1, o1) << t << " threads";
+    EXPECT_EQ(in2, o2) << t << " threads";
+    if (t == 1) {
+      one1 = o1, one2 = o2;
+    } else {
+      EXPECT_EQ(o1, one1) << t << " threads";
+      EXPECT_EQ(o2, one2) << t << " threads";
+    }
+  }
+  omp_set_num_threads(threads);
+}
+
 }  // namespace
 }  // namespace rbc

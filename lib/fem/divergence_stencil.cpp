@@ -112,16 +112,10 @@ void DivergenceStencil::apply(const std::vector<double>& u1, const std::vector<d
   }
 }
 
-void DivergenceStencil::apply_transpose(const std::vector<double>& p, std::vector<double>& g1,
-                                        std::vector<double>& g2) const {
+template <class Store>
+void DivergenceStencil::transpose_rows(const std::vector<double>& p, Store store) const {
   const int nx = m_.nx, ny = m_.ny, pnx = m_.pnx();
   const double c = m_.h / 6.0;
-  g1.resize(m_.velocity_nodes());
-  g2.resize(m_.velocity_nodes());
-  for (auto* g : {&g1, &g2}) {  // wall rows: not unknowns; the interior is overwritten below
-    std::fill(g->begin(), g->begin() + nx, 0.0);
-    std::fill(g->end() - nx, g->end(), 0.0);
-  }
 #pragma omp parallel
   {
     const int threads = omp_get_num_threads(), t = omp_get_thread_num();
@@ -175,14 +169,10 @@ void DivergenceStencil::apply_transpose(const std::vector<double>& p, std::vecto
       const double* Uj = U[j % 2];
       const double* Ld = L[(j - 1) % 2];
       const double* Ud = U[(j - 1) % 2];
-      double* o1 = &g1[std::size_t(j) * nx];
-      double* o2 = &g2[std::size_t(j) * nx];
-      auto gradient = [&](int i, int im) {
-        o1[i] = -Lj[i] + Lj[im] + Ud[im] - Ud[i];
-        o2[i] = -Lj[i] + Ld[i] - Uj[im] + Ud[im];
-      };
-      gradient(0, nx - 1);
-      for (int i = 1; i < nx; ++i) gradient(i, i - 1);
+      store(j, [&](int i, int im, double& a, double& b) {
+        a = -Lj[i] + Lj[im] + Ud[im] - Ud[i];
+        b = -Lj[i] + Ld[i] - Uj[im] + Ud[im];
+      });
     };
     if (r0 < r1) {
       prolongate(r0 - 1);
@@ -195,6 +185,51 @@ void DivergenceStencil::apply_transpose(const std::vector<double>& p, std::vecto
       }
     }
   }
+}
+
+void DivergenceStencil::apply_transpose(const std::vector<double>& p, std::vector<double>& g1,
+                                        std::vector<double>& g2) const {
+  const int nx = m_.nx;
+  g1.resize(m_.velocity_nodes());
+  g2.resize(m_.velocity_nodes());
+  for (auto* g : {&g1, &g2}) {  // wall rows: not unknowns; the interior is overwritten below
+    std::fill(g->begin(), g->begin() + nx, 0.0);
+    std::fill(g->end() - nx, g->end(), 0.0);
+  }
+  transpose_rows(p, [&](int j, auto gradient) {
+    double* o1 = &g1[std::size_t(j) * nx];
+    double* o2 = &g2[std::size_t(j) * nx];
+    gradient(0, nx - 1, o1[0], o2[0]);
+    for (int i = 1; i < nx; ++i) gradient(i, i - 1, o1[i], o2[i]);
+  });
+}
+
+void DivergenceStencil::add_transpose(const std::vector<double>& p, double c, const std::vector<double>& u1,
+                                      const std::vector<double>& u2, std::vector<double>& out1, std::vector<double>& out2) const {
+  const int nx = m_.nx;
+  const std::size_t top = std::size_t(m_.ny) * nx;
+  out1.resize(m_.velocity_nodes());
+  out2.resize(m_.velocity_nodes());
+  if (&out1 != &u1)  // wall rows: u (Bᵀ p is zero there)
+    for (std::size_t k : {std::size_t(0), top})
+      for (int i = 0; i < nx; ++i) {
+        out1[k + i] = u1[k + i];
+        out2[k + i] = u2[k + i];
+      }
+  transpose_rows(p, [&](int j, auto gradient) {
+    const double* a1 = &u1[std::size_t(j) * nx];
+    const double* a2 = &u2[std::size_t(j) * nx];
+    double* o1 = &out1[std::size_t(j) * nx];
+    double* o2 = &out2[std::size_t(j) * nx];
+    auto at = [&](int i, int im) {
+      double g1, g2;
+      gradient(i, im, g1, g2);
+      o1[i] = a1[i] + c * g1;
+      o2[i] = a2[i] + c * g2;
+    };
+    at(0, nx - 1);
+    for (int i = 1; i < nx; ++i) at(i, i - 1);
+  });
 }
 
 }  // namespace rbc

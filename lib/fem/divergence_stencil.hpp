@@ -21,9 +21,16 @@ class DivergenceStencil {
   void apply(const std::vector<double>& u1, const std::vector<double>& u2, std::vector<double>& div) const;
   // (g1, g2) = Bᵀ p on the interior velocity nodes (wall rows set to 0).
   void apply_transpose(const std::vector<double>& p, std::vector<double>& g1, std::vector<double>& g2) const;
+  // out = u + c Bᵀ p in one sweep (the wall rows: u), for the projection's velocity update; each
+  // value is u + c g with g as apply_transpose gives it. out may be u.
+  void add_transpose(const std::vector<double>& p, double c, const std::vector<double>& u1, const std::vector<double>& u2,
+                     std::vector<double>& out1, std::vector<double>& out2) const;
 
  private:
   ChannelMesh m_;
+  // Bᵀ p row by row; store(j, i, g1, g2) receives the values of interior node (i, j).
+  template <class Store>
+  void transpose_rows(const std::vector<double>& p, Store store) const;
 };
 
 }  // namespace rbc

@@ -75,8 +75,12 @@ std::pair<double*, double*> ImplicitDiffusion::zeroed_force_rhs() {
 
 void ImplicitDiffusion::force_response(VelocityField& out) {
   const int nx = m_.nx, n = nx * (m_.ny - 1);
-  solve_both(rhs_.data(), rhs2_.data());
   for (int k = 0; k < nx; ++k) out.u1[k] = out.u2[k] = out.u1[nx + n + k] = out.u2[nx + n + k] = 0.0;  // walls
+  if (!constraint_) {  // the fast solve writes the interior rows of out itself (no copy)
+    solver_->solve_pair(rhs_.data(), rhs2_.data(), out.u1.data() + nx, out.u2.data() + nx);
+    return;
+  }
+  solve_both(rhs_.data(), rhs2_.data());
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) {
     out.u1[nx + k] = rhs_[k];

@@ -145,15 +145,9 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
 
 void QuasiStokesProjection::add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho,
                                                   double dt, VelocityField& out) {
-  // Velocity update on the interior: out = u + (Δt/ρ) M⁻¹ Bᵀ p (Bᵀ p is zero on the walls).
-  B_.apply_transpose(p, g1_, g2_);
-  const double c = dt / rho * inv_mass_;
-  const std::ptrdiff_t size = std::ptrdiff_t(g1_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t n = 0; n < size; ++n) {
-    out.u1[n] = u.u1[n] + c * g1_[n];
-    out.u2[n] = u.u2[n] + c * g2_[n];
-  }
+  // Velocity update on the interior: out = u + (Δt/ρ) M⁻¹ Bᵀ p (Bᵀ p is zero on the walls), in
+  // the same sweep as Bᵀ p.
+  B_.add_transpose(p, dt / rho * inv_mass_, u.u1, u.u2, out.u1, out.u2);
 }
 
 void QuasiStokesProjection::pressure_force(const std::vector<double>& p, VelocityField& out) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <utility>
 
+#include <omp.h>
+
 namespace rbc {
 
 namespace {
@@ -28,8 +30,6 @@ WaveLikeAdvection::WaveLikeAdvection(const ChannelMesh& mesh) : m_(mesh) {
   for (int c = 0; c < 2; ++c) {
     vl_[c].assign(cells, 0.0);
     vu_[c].assign(cells, 0.0);
-    gl_[c].assign(cells, 0.0);
-    gu_[c].assign(cells, 0.0);
     const std::size_t n = mesh.velocity_nodes();
     for (auto* v : {&prev_[c], &cur_[c], &next_[c], &acc_[c], &vel_[c]}) v->assign(n, 0.0);
   }
@@ -38,39 +38,55 @@ WaveLikeAdvection::WaveLikeAdvection(const ChannelMesh& mesh) : m_(mesh) {
 void WaveLikeAdvection::apply(std::vector<double>* const f[2], std::vector<double>* minv_a, std::vector<double>* minv_c) {
   const int nx = m_.nx, ny = m_.ny;
   const double inv_h = 1.0 / m_.h;
-  // Per triangle and component: g_T = V_T · ∇f_T.
-#pragma omp parallel for schedule(static)
-  for (int j = 0; j < ny; ++j)
-    for (int c = 0; c < 2; ++c) {
-      const double* a = &(*f[c])[std::size_t(j) * nx];      // row j
-      const double* b = &(*f[c])[std::size_t(j + 1) * nx];  // row j + 1
-      const std::size_t o = std::size_t(j) * nx;
-      const double *vlx = &vl_[0][o], *vly = &vl_[1][o], *vux = &vu_[0][o], *vuy = &vu_[1][o];
-      triangle_row(nx, inv_h, a, b, vlx, vly, vux, vuy, &gl_[c][o], &gu_[c][o]);
-    }
-  // Per interior node, gather from its six triangles:
+  // Per triangle and component: g_T = V_T · ∇f_T (triangle_row), a row of squares at a time; then
+  // per interior node, gather from its six triangles:
   //   (A f)_n = |T| Σ_T g_T (V_T·∇φ_n),   (C f)_n = |T|/3 Σ_T g_T,   M_nn = h², |T| = h²/2.
   // Around node (i, j): a = square (i, j), b = (i−1, j), c = (i, j−1), d = (i−1, j−1); the node
   // is vertex 0 of lower a, 1 of lower b, 2 of lower c, 0 of upper b, 1 of upper d, 2 of upper c.
-  // (This loop stays as it is, scalar: written to vectorise, the compiler contracted its sums into
-  // fused multiply-adds differently and every run's bits changed; measured 2026-11-26.)
-#pragma omp parallel for schedule(static)
-  for (int j = 1; j < ny; ++j)
-    for (int c = 0; c < 2; ++c) {
-      const std::size_t o = std::size_t(j) * nx, od = std::size_t(j - 1) * nx;
-      const double *gl = &gl_[c][0], *gu = &gu_[c][0];
-      const double *vlx = &vl_[0][0], *vly = &vl_[1][0], *vux = &vu_[0][0], *vuy = &vu_[1][0];
-      double* A = &minv_a[c][o];
-      double* C = minv_c ? &minv_c[c][o] : nullptr;
-      for (int i = 0; i < nx; ++i) {
-        const int im = (i == 0) ? nx - 1 : i - 1;
-        const std::size_t a = o + i, b = o + im, cc = od + i, d = od + im;
-        const double s = gl[a] * (-vlx[a] - vly[a]) + gl[b] * vlx[b] + gl[cc] * vly[cc] - gu[b] * vuy[b] +
-                         gu[d] * (vux[d] + vuy[d]) - gu[cc] * vux[cc];
-        A[i] = 0.5 * s * inv_h;  // |T|/M = 1/2, one more 1/h from ∇φ
-        if (C) C[i] = -(gl[a] + gl[b] + gl[cc] + gu[b] + gu[d] + gu[cc]) / 6.0;
+  // Each thread makes its own share of the node rows in one sweep, keeping only the two rows of
+  // g_T that its next node row needs (the row at the edge of two shares is made by both threads,
+  // by the same expression): the same values as two passes over whole arrays of g_T, without them.
+#pragma omp parallel
+  {
+    const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+    const int j0 = 1 + t * (ny - 1) / threads, j1 = 1 + (t + 1) * (ny - 1) / threads;  // this thread's node rows
+    thread_local std::vector<double> buffer;
+    buffer.resize(std::size_t(8) * nx);
+    // g_T of triangle row r (between node rows r and r + 1), component c: lower at gl(r, c), upper at gu(r, c).
+    auto gl = [&](int r, int c) { return &buffer[std::size_t((r % 2) * 4 + c) * nx]; };
+    auto gu = [&](int r, int c) { return &buffer[std::size_t((r % 2) * 4 + 2 + c) * nx]; };
+    auto triangles = [&](int r) {
+      const std::size_t o = std::size_t(r) * nx;
+      const double *vlx = &vl_[0][o], *vly = &vl_[1][o], *vux = &vu_[0][o], *vuy = &vu_[1][o];
+      for (int c = 0; c < 2; ++c)
+        triangle_row(nx, inv_h, &(*f[c])[o], &(*f[c])[o + nx], vlx, vly, vux, vuy, gl(r, c), gu(r, c));
+    };
+    if (j0 < j1) {
+      triangles(j0 - 1);
+      for (int j = j0; j < j1; ++j) {
+        triangles(j);
+        for (int c = 0; c < 2; ++c)
+          gather_row(nx, inv_h, j, gl(j, c), gu(j, c), gl(j - 1, c), gu(j - 1, c), &minv_a[c][std::size_t(j) * nx],
+                     minv_c ? &minv_c[c][std::size_t(j) * nx] : nullptr);
       }
     }
+  }
+}
+
+void WaveLikeAdvection::gather_row(int nx, double inv_h, int j, const double* glj, const double* guj, const double* gld,
+                                   const double* gud, double* A, double* C) const {
+  // (This loop stays scalar, as it was: written to vectorise, the compiler contracted its sums
+  // into fused multiply-adds differently and every run's bits changed; measured 2026-11-26.)
+  const std::size_t o = std::size_t(j) * nx, od = std::size_t(j - 1) * nx;
+  const double *vlx = &vl_[0][0], *vly = &vl_[1][0], *vux = &vu_[0][0], *vuy = &vu_[1][0];
+  for (int i = 0; i < nx; ++i) {
+    const int im = (i == 0) ? nx - 1 : i - 1;
+    const std::size_t a = o + i, b = o + im, cc = od + i, d = od + im;
+    const double s = glj[i] * (-vlx[a] - vly[a]) + glj[im] * vlx[b] + gld[i] * vly[cc] - guj[im] * vuy[b] +
+                     gud[im] * (vux[d] + vuy[d]) - gud[i] * vux[cc];
+    A[i] = 0.5 * s * inv_h;  // |T|/M = 1/2, one more 1/h from ∇φ
+    if (C) C[i] = -(glj[i] + glj[im] + gld[i] + guj[im] + gud[im] + gud[i]) / 6.0;
+  }
 }
 
 void WaveLikeAdvection::advect(const VelocityField& V, VelocityField& u, double dt, int substeps) {
