@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 #include <omp.h>
 
+#include "immersed_boundary/bf16_lu_solve.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
 
 namespace rbc {
@@ -28,27 +28,6 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// bfloat16: the upper half of a float's bits (8 significant bits). The preconditioner's sweeps
-// stream every block's factors from memory; in half the bits of a float they stream half as much.
-float from_bf16(std::uint16_t h) {
-  const std::uint32_t u = std::uint32_t(h) << 16;
-  float f;
-  std::memcpy(&f, &u, sizeof f);
-  return f;
-}
-
-std::uint16_t to_bf16(float f) {  // rounded to nearest, ties to even
-  std::uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  u += 0x7fffu + ((u >> 16) & 1u);
-  return std::uint16_t(u >> 16);
-}
-
-void store_bf16(const Eigen::MatrixXf& A, std::vector<std::uint16_t>& out) {  // column by column
-  out.resize(std::size_t(A.rows()) * A.cols());
-  for (Eigen::Index k = 0; k < A.size(); ++k) out[k] = to_bf16(A.data()[k]);
 }
 
 Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
@@ -139,25 +118,13 @@ Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v)
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     if (several_)
     {
-      // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y, column by column
-      // (each solved value taken out of the rest at once: no sums to reduce along the chain).
+      // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (bf16_lu_solve.hpp).
       const Block& b = blocks_[c];
       const int m = int(n);
       thread_local std::vector<float> x;
       x.resize(m);
       for (int i = 0; i < m; ++i) x[i] = float(v[offset_[c] + b.permutation[i]]);
-      for (int j = 0; j < m; ++j) {
-        const std::uint16_t* col = &b.lu_bf16[std::size_t(j) * m];
-        const float xj = x[j];
-#pragma omp simd
-        for (int i = j + 1; i < m; ++i) x[i] -= from_bf16(col[i]) * xj;
-      }
-      for (int j = m - 1; j >= 0; --j) {
-        const std::uint16_t* col = &b.lu_bf16[std::size_t(j) * m];
-        const float xj = x[j] *= b.inverse_diagonal[j];
-#pragma omp simd
-        for (int i = 0; i < j; ++i) x[i] -= from_bf16(col[i]) * xj;
-      }
+      detail::lu_solve_bf16(b.lu_bf16.data(), b.inverse_diagonal.data(), m, x.data());
       for (int i = 0; i < m; ++i) out[offset_[c] + i] = x[i];
     }
     else
@@ -440,7 +407,7 @@ void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target
   {
     const Eigen::PartialPivLU<Eigen::MatrixXf> lu(B.cast<float>());
     Block& b = blocks_[c];
-    store_bf16(lu.matrixLU(), b.lu_bf16);
+    detail::pack_lu_bf16(lu.matrixLU().data(), int(B.rows()), b.lu_bf16);
     b.inverse_diagonal.resize(B.rows());
     for (Eigen::Index i = 0; i < B.rows(); ++i) b.inverse_diagonal[i] = 1.0f / lu.matrixLU()(i, i);
     // P B = L U with P = lu.permutationP(): row i of P B is row p⁻¹(i) of B.

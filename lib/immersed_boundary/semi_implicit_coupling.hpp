@@ -131,7 +131,8 @@ class SemiImplicitMembraneStep {
     MembraneStiffness K;                  // the cell's stiffness
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;         // of I + Δt M_cc K_c: one cell (its whole system)
     // Several cells (a preconditioner): the same factored in single precision, P B = L U, with
-    // L and U stored by columns in bfloat16 (see precondition), 1/U_ii in float and P as indices.
+    // L and U in bfloat16 in the order the sweep reads them (bf16_lu_solve.hpp), 1/U_ii in float
+    // and P as indices.
     std::vector<std::uint16_t> lu_bf16;
     std::vector<float> inverse_diagonal;
     std::vector<int> permutation;  // row i of P B is row permutation[i] of B
