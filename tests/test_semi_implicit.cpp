@@ -281,25 +281,19 @@ TEST(SemiImplicit, ThePreconditionersSweepKeepsItsStatedArithmeticBitForBit) {
       for (float& v : x) v = value(gen);
       std::vector<float> expected = x;
       volatile float* e = expected.data();  // every operation rounded where written
-      for (int j = 0; j < m; ++j)
-        for (int i = j + 1; i < m; ++i) {
+      auto update = [&](int i, int j) {       // e_i − LU_ij e_j, one rounding (two without FMA)
 #ifdef __FMA__
-          e[i] = std::fma(-lu[std::size_t(j) * m + i], float(e[j]), float(e[i]));
+        e[i] = std::fma(-lu[std::size_t(j) * m + i], float(e[j]), float(e[i]));
 #else
-          const volatile float product = lu[std::size_t(j) * m + i] * e[j];
-          e[i] = e[i] - product;
+        const volatile float product = lu[std::size_t(j) * m + i] * e[j];
+        e[i] = e[i] - product;
 #endif
-        }
+      };
+      for (int j = 0; j < m; ++j)
+        for (int i = j + 1; i < m; ++i) update(i, j);
       for (int j = m - 1; j >= 0; --j) {
         e[j] = e[j] * inverse_diagonal[j];
-        for (int i = 0; i < j; ++i) {
-#ifdef __FMA__
-          e[i] = std::fma(-lu[std::size_t(j) * m + i], float(e[j]), float(e[i]));
-#else
-          const volatile float product = lu[std::size_t(j) * m + i] * e[j];
-          e[i] = e[i] - product;
-#endif
-        }
+        for (int i = 0; i < j; ++i) update(i, j);
       }
       std::vector<std::uint16_t> packed;
       detail::pack_lu_bf16(lu.data(), m, packed);
