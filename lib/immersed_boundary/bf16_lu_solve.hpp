@@ -54,15 +54,19 @@ inline float subtract_product(float y, float a, float b) {
 #endif
 }
 
-// Column by column from the factors by columns (lu[j m + i] = LU_ij): the stated order itself.
+// Column by column from the factors by columns (lu[j m + i] = LU_ij): the stated order itself
+// (each column's updates independent of one another, so the compiler may vectorise them).
 inline void lu_solve_bf16_by_columns(const std::uint16_t* lu, const float* inverse_diagonal, int m, float* x) {
   for (int j = 0; j < m; ++j) {
     const std::uint16_t* col = lu + std::size_t(j) * m;
-    for (int i = j + 1; i < m; ++i) x[i] = subtract_product(x[i], from_bf16(col[i]), x[j]);
+    const float xj = x[j];
+#pragma omp simd
+    for (int i = j + 1; i < m; ++i) x[i] = subtract_product(x[i], from_bf16(col[i]), xj);
   }
   for (int j = m - 1; j >= 0; --j) {
     const std::uint16_t* col = lu + std::size_t(j) * m;
     const float xj = x[j] *= inverse_diagonal[j];
+#pragma omp simd
     for (int i = 0; i < j; ++i) x[i] = subtract_product(x[i], from_bf16(col[i]), xj);
   }
 }
