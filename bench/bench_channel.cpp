@@ -285,16 +285,20 @@ static void bench_disks() {
 // --crowd-case NAME takes another case of cell_free_layer (--list-cases) from the developed
 // profile, e.g. n100_study_pressure (the study's form of the pressure). --coupling-start
 // linear|constant sets where the coupled GMRES starts (a checkpoint made before 2026-11-26 holds
-// the linear start, the scenes' default then).
-static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start) {
+// the linear start, the scenes' default then); --coupling-blocks fixed|turned how it applies the
+// cells' preconditioner blocks (a checkpoint made before 2026-11-27 holds fixed blocks).
+static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start,
+                        const std::string& blocks) {
   const FftPairs f = fft_pairs(320, 160);
   const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});
   const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
   if (c == all.end()) throw std::invalid_argument("bench_channel: --crowd-case " + name + " is not a case of cell_free_layer (--list-cases)");
   rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
   if (!start.empty()) scene.coupling_start = start;  // --coupling-start (a checkpoint keeps the scene it was made with)
-  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
-              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), scene.repulsion_strength > 0 ? "on" : "off",
+  if (!blocks.empty()) scene.coupling_blocks = blocks;
+  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, %s blocks, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
+              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), scene.coupling_blocks.c_str(),
+              scene.repulsion_strength > 0 ? "on" : "off",
               from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
   constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
@@ -340,7 +344,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
-  std::string crowd_from, crowd_case = "n100", crowd_start;
+  std::string crowd_from, crowd_case = "n100", crowd_start, crowd_blocks;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
@@ -352,14 +356,19 @@ int main(int argc, char** argv) {
     if (std::string(argv[a]) == "--crowd-from" && a + 1 < argc) crowd_from = argv[a + 1];
     if (std::string(argv[a]) == "--crowd-case" && a + 1 < argc) crowd_case = argv[a + 1];
     if (std::string(argv[a]) == "--coupling-start" && a + 1 < argc) crowd_start = argv[a + 1];
+    if (std::string(argv[a]) == "--coupling-blocks" && a + 1 < argc) crowd_blocks = argv[a + 1];
   }
   if (!crowd_start.empty() && crowd_start != "linear" && crowd_start != "constant") {
     std::fprintf(stderr, "bench_channel: --coupling-start %s (allowed: linear, constant)\n", crowd_start.c_str());
     return 2;
   }
+  if (!crowd_blocks.empty() && crowd_blocks != "fixed" && crowd_blocks != "turned") {
+    std::fprintf(stderr, "bench_channel: --coupling-blocks %s (allowed: fixed, turned)\n", crowd_blocks.c_str());
+    return 2;
+  }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start);
+    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, crowd_blocks);
     return 0;
   }
   if (disks_only) {
@@ -411,6 +420,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start);
+  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, crowd_blocks);
   return 0;
 }

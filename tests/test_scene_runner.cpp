@@ -91,6 +91,12 @@ TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
             "constant");
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_start=quadratic"}),
                {"[solver] coupling_start", "linear", "constant"});
+  // How it applies the cells' blocks: "fixed" unless the scene says "turned"; anything else is named.
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_blocks, "fixed");
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_blocks=turned"}).coupling_blocks,
+            "turned");
+  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_blocks=rotated"}),
+               {"[solver] coupling_blocks", "fixed", "turned"});
   // 25 um x 0.5 mm at h = 0.25 um: 100 x 2000 cells, a 24 GiB table.
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "channel.length=25e-6", "channel.height=0.5e-3"}),
                {"[time] coupling", "GiB", "coarser"});
@@ -222,6 +228,15 @@ TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
   Scene tighter = constant;
   tighter.coupling_tolerance = 1e-5;
   EXPECT_FALSE(read_finished_run(out.string(), tighter).has_value());
+  Scene turned = constant;  // no coupling_blocks in the summary: fixed blocks, the only ones then
+  turned.coupling_blocks = "turned";
+  EXPECT_FALSE(read_finished_run(out.string(), turned).has_value());
+  j["coupling_blocks"] = "turned";
+  write();
+  EXPECT_TRUE(read_finished_run(out.string(), turned).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
+  j["coupling_blocks"] = "fixed";
+  write();
   Scene one = constant;  // one cell: its block is its whole system, GMRES does not run
   one.cells.pop_back();
   one.coupling_start = "linear";

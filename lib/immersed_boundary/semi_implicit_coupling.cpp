@@ -119,13 +119,34 @@ Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v)
     if (several_)
     {
       // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (bf16_lu_solve.hpp).
+      // Turned blocks: x = R B⁻¹ Rᵀ v, node by node (see the header).
       const Block& b = blocks_[c];
       const int m = int(n);
+      const double* in = v.data() + offset_[c];
+      thread_local std::vector<double> turned;
+      const bool turn = !turn_.empty();
+      if (turn) {
+        const Eigen::Matrix2d& R = turn_[c];
+        turned.resize(m);
+        for (int i = 0; i < m; i += 2) {
+          turned[i] = R(0, 0) * in[i] + R(1, 0) * in[i + 1];
+          turned[i + 1] = R(0, 1) * in[i] + R(1, 1) * in[i + 1];
+        }
+        in = turned.data();
+      }
       thread_local std::vector<float> x;
       x.resize(m);
-      for (int i = 0; i < m; ++i) x[i] = float(v[offset_[c] + b.permutation[i]]);
+      for (int i = 0; i < m; ++i) x[i] = float(in[b.permutation[i]]);
       detail::lu_solve_bf16(b.lu_bf16.data(), b.inverse_diagonal.data(), m, x.data());
-      for (int i = 0; i < m; ++i) out[offset_[c] + i] = x[i];
+      if (turn) {
+        const Eigen::Matrix2d& R = turn_[c];
+        for (int i = 0; i < m; i += 2) {
+          out[offset_[c] + i] = R(0, 0) * x[i] + R(0, 1) * x[i + 1];
+          out[offset_[c] + i + 1] = R(1, 0) * x[i] + R(1, 1) * x[i + 1];
+        }
+      } else {
+        for (int i = 0; i < m; ++i) out[offset_[c] + i] = x[i];
+      }
     }
     else
       out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
@@ -174,6 +195,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
     // ahead for): rebuild them at the nodes of this step and go on from where GMRES got to.
     const auto t0 = std::chrono::steady_clock::now();
     rebuild_blocks(cells, false);
+    fit_turns(cells);
     refresh_steps_ = std::max(1, refresh_steps_ / 2);
     fresh_in_step_ = true;
     ++cost_.fresh_rebuilds;
@@ -344,6 +366,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   } else {
     ++steps_since_rebuild_;
   }
+  fit_turns(cells);
   cost_.blocks += seconds_since(t0);
   t0 = clock::now();
   // One cell in an x1-invariant fluid: its own system is the whole system. Several, or a fluid
@@ -355,7 +378,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   const Eigen::VectorXd U = several_ ? solve_coupled(cells, rhs) : precondition(rhs);
   // A step that needed many iterations: the blocks go stale faster than the interval assumes (a
   // larger Δt, faster cells), so they are rebuilt at the next step and more often from then on.
-  if (several_ && !fresh_in_step_ && last_iterations_ > kRebuildAboveIterations) {
+  if (several_ && !fresh_in_step_ && last_iterations_ > rebuild_above_) {
     refresh_steps_ = std::max(1, refresh_steps_ / 2);
     rebuild_now_ = true;
   }
@@ -390,6 +413,36 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   }
   cost_.correction += seconds_since(t0);
   return correction_;
+}
+
+Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to) {
+  if (from.size() != to.size() || to.empty()) throw std::invalid_argument("best_fit_rotation: node counts differ");
+  Eigen::Vector2d a = Eigen::Vector2d::Zero(), b = Eigen::Vector2d::Zero();
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    a += from[i];
+    b += to[i];
+  }
+  a /= double(to.size());
+  b /= double(to.size());
+  double dot = 0, cross = 0;
+  for (std::size_t i = 0; i < to.size(); ++i) {
+    const Eigen::Vector2d p = from[i] - a, q = to[i] - b;
+    dot += p.dot(q);
+    cross += p.x() * q.y() - p.y() * q.x();
+  }
+  const double theta = std::atan2(cross, dot);
+  Eigen::Matrix2d R;
+  R << std::cos(theta), -std::sin(theta), std::sin(theta), std::cos(theta);
+  return R;
+}
+
+void SemiImplicitMembraneStep::fit_turns(const std::vector<Cell>& cells) {
+  // Each block's rotation onto its cell's nodes (the header). None unless turned blocks are asked
+  // for and the blocks only precondition.
+  turn_.clear();
+  if (!turn_blocks_ || !several_ || block_nodes_.size() != cells.size()) return;
+  turn_.resize(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) turn_[c] = best_fit_rotation(block_nodes_[c], cells[c].nodes);
 }
 
 void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area, double kb_scale) {

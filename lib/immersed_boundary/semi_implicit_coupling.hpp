@@ -29,6 +29,23 @@
 // long way). Since the blocks only precondition, they are rebuilt every few tens of steps when
 // there are several cells (the interval shortens by itself when GMRES needs many iterations, as
 // at larger Δt), factored in single precision and stored in bfloat16 (GMRES corrects the rest).
+//
+// Turned blocks ([solver] coupling_blocks = "turned"; set_turn_blocks). A cell that has turned
+// by a rotation R since its block was built has, where the walls and the grid do not matter,
+//
+//   K(R r) = R K(r) Rᵀ,  M̄(R r) ≈ R M̄(r) Rᵀ   ⇒   B(R r)⁻¹ ≈ R B(r)⁻¹ Rᵀ
+//
+// (R acting on every node's pair of unknowns; the springs' energies do not change under a
+// rotation, and the fluid's response turns with the forces). So the block is applied turned:
+// v_i → Rᵀ v_i, B⁻¹, then x_i → R x_i. R is the rotation that best maps the block's nodes r⁰
+// onto the cell's nodes r about their centroids (least squares, 2D):
+//
+//   θ = atan2(Σ_i p_i × q_i, Σ_i p_i · q_i),   p_i = r⁰_i − r̄⁰,  q_i = r_i − r̄,
+//
+// fitted at every step. It takes out what the crowd's cells turning does to the blocks, so that
+// fewer steps exceed kRebuildAboveIterations and the blocks are rebuilt less often (100 cells in
+// cell_free_layer's developed crowd at 3e-6 s: 0.093 against 0.138 blocks a cell and step, the
+// step 12 % faster; paper/method/04_semi_implicit_coupling.md).
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -43,6 +60,10 @@
 #include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
+
+// The rotation R that best maps the nodes `from` onto `to` about their centroids (least squares;
+// "Turned blocks" above): θ = atan2(Σ p × q, Σ p · q). Same number of nodes.
+Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to);
 
 class SemiImplicitMembraneStep {
  public:
@@ -91,11 +112,15 @@ class SemiImplicitMembraneStep {
   static constexpr int kRebuildAboveIterations = 12;
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
+  // For tests: the blocks rebuilt after a step with more than this many iterations instead.
+  void set_rebuild_above_iterations(int iterations) { rebuild_above_ = iterations; }
   // Where GMRES starts (solve_coupled): the last two steps' solutions carried on in a straight
   // line (kLinear, the default) or the last one (kConstant), each plus the blocks' response to
   // the change of the right-hand side that the start does not predict.
   enum class Start { kLinear, kConstant };
   void set_start(Start start) { start_ = start; }
+  // Apply each cell's block turned with the cell's rotation since it was built (see above).
+  void set_turn_blocks(bool on) { turn_blocks_ = on; }
   // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
   void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
   // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
@@ -156,6 +181,7 @@ class SemiImplicitMembraneStep {
   bool rebuild_now_ = false;                // rebuild at the next step
   bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes
   int fresh_blocks_after_ = kFreshBlocksAfter;
+  int rebuild_above_ = kRebuildAboveIterations;
   bool x1_invariant_ = true;
   Start start_ = Start::kLinear;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
@@ -164,6 +190,9 @@ class SemiImplicitMembraneStep {
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
   static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
+  bool turn_blocks_ = false;
+  std::vector<Eigen::Matrix2d> turn_;  // each block's rotation onto its cell's nodes (turn_blocks_; empty: none)
+  void fit_turns(const std::vector<Cell>& cells);
   void build_block(int c, const Points& r, double target_area, double kb_scale);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd precondition(const Eigen::VectorXd& v);

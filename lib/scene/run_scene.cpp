@@ -479,6 +479,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   j["projection"] = scene.projection;
   if (coupling_by_gmres(scene)) {  // GMRES's start and tolerance (scene.hpp): they change the bits
     j["coupling_start"] = scene.coupling_start;
+    j["coupling_blocks"] = scene.coupling_blocks;
     j["coupling_tolerance"] = scene.coupling_tolerance;
   }
   if (!cells.empty())
@@ -504,11 +505,12 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
         j.value("projection", std::string("study")) != scene.projection ||
         std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
-    // Where the coupling's GMRES starts and where it stops change the run like a start
-    // perturbation (a summary without the keys is older than them: the straight-line start and
-    // 1e-4, the only ones then).
+    // Where the coupling's GMRES starts, how it preconditions and where it stops change the run
+    // like a start perturbation (a summary without the keys is older than them: the straight-line
+    // start, fixed blocks and 1e-4, the only ones then).
     if (coupling_by_gmres(scene) &&
         (j.value("coupling_start", std::string("linear")) != scene.coupling_start ||
+         j.value("coupling_blocks", std::string("fixed")) != scene.coupling_blocks ||
          j.value("coupling_tolerance", 1e-4) != scene.coupling_tolerance))
       return std::nullopt;
     RunSummary s;

@@ -53,6 +53,9 @@ void Simulation::build_cells() {
       throw std::invalid_argument("[solver] coupling_start: \"" + scene.coupling_start + "\" (allowed: \"linear\", \"constant\")");
     semi_implicit_step_->set_start(scene.coupling_start == "constant" ? SemiImplicitMembraneStep::Start::kConstant
                                                                      : SemiImplicitMembraneStep::Start::kLinear);
+    if (scene.coupling_blocks != "fixed" && scene.coupling_blocks != "turned")
+      throw std::invalid_argument("[solver] coupling_blocks: \"" + scene.coupling_blocks + "\" (allowed: \"fixed\", \"turned\")");
+    semi_implicit_step_->set_turn_blocks(scene.coupling_blocks == "turned");
   }
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
