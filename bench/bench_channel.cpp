@@ -13,8 +13,10 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <fftw3.h>
 #include <omp.h>
@@ -286,58 +288,84 @@ static void bench_disks() {
 // profile, e.g. n100_study_pressure (the study's form of the pressure). --coupling-start
 // linear|constant sets where the coupled GMRES starts (a checkpoint made before 2026-11-26 holds
 // the linear start, the scenes' default then); --coupling-blocks fixed|turned how it applies the
-// cells' preconditioner blocks (a checkpoint made before 2026-11-27 holds fixed blocks).
+// cells' preconditioner blocks (a checkpoint made before 2026-11-27 holds fixed blocks);
+// --coupling-blocks fixed,turned runs both from the same start in one process, alternating every
+// ten steps, so that the machine's hour falls on both alike (their ratio is the measurement).
 static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start,
-                        const std::string& blocks) {
+                        const std::vector<std::string>& blocks) {
   const FftPairs f = fft_pairs(320, 160);
   const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});
   const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
   if (c == all.end()) throw std::invalid_argument("bench_channel: --crowd-case " + name + " is not a case of cell_free_layer (--list-cases)");
   rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
   if (!start.empty()) scene.coupling_start = start;  // --coupling-start (a checkpoint keeps the scene it was made with)
-  if (!blocks.empty()) scene.coupling_blocks = blocks;
+  struct Run {
+    std::unique_ptr<rbc::Simulation> sim;
+    rbc::SemiImplicitMembraneStep::Cost before;
+    long sum = 0, above = 0;
+    int most = 0;
+    double seconds = 0;
+  };
+  std::vector<std::string> variants = blocks.empty() ? std::vector<std::string>{scene.coupling_blocks} : blocks;
+  std::string names;
+  for (const auto& b : variants) names += (names.empty() ? "" : " and ") + b;
   std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, %s blocks, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
-              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), scene.coupling_blocks.c_str(),
+              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), names.c_str(),
               scene.repulsion_strength > 0 ? "on" : "off",
               from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
-  constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations;
-  std::printf("%10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove, "it_max",
-              "blocks/step", "interval", "fresh_steps");
-  rbc::Simulation sim(scene);
-  if (from.empty())
-    sim.start_from_cell_free_profile();
-  else
-    rbc::load_checkpoint(from, sim);
-  for (int i = 0; i < 10; ++i) { sim.step(); sim.check_health(); }
-  const auto before = sim.semi_implicit_step()->cost();
-  long sum = 0, above = 0;
-  int most = 0;
-  const auto t0 = clk::now();
-  for (int i = 0; i < steps; ++i) {
-    sim.step();
-    sim.check_health();
-    const int it = sim.last_coupling_iterations();
-    sum += it;
-    above += it > kAbove;
-    most = std::max(most, it);
+  std::vector<Run> runs(variants.size());
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    scene.coupling_blocks = variants[v];
+    runs[v].sim = std::make_unique<rbc::Simulation>(scene);
+    rbc::Simulation& sim = *runs[v].sim;
+    if (from.empty())
+      sim.start_from_cell_free_profile();
+    else
+      rbc::load_checkpoint(from, sim);
+    for (int i = 0; i < 10; ++i) { sim.step(); sim.check_health(); }
+    runs[v].before = sim.semi_implicit_step()->cost();
   }
-  const double step = std::chrono::duration<double>(clk::now() - t0).count() / steps;
-  const auto& a = sim.semi_implicit_step()->cost();
-  const double n = double(a.steps - before.steps);
-  const double builds = double(a.block_builds - before.block_builds) / scene.cells.size();
-  std::printf("%10.0f %9.1f %9.1f %9.2f %9.1f%% %9d %12.3f %9.1f %12ld\n", step * 1e6, 1.0 / step, step / f.pair2d, double(sum) / steps,
-              100.0 * above / steps, most, builds / n, builds > 0 ? n / builds : 0.0, a.fresh_rebuilds - before.fresh_rebuilds);
-  std::printf("per step (us): predictor %.0f, blocks %.0f, coupled solve %.0f (%.2f products: %.0f, preconditioner sweeps: %.0f), correction %.0f\n",
-              (a.predictor - before.predictor) / n * 1e6, (a.blocks - before.blocks) / n * 1e6, (a.coupled - before.coupled) / n * 1e6,
-              (a.product_count - before.product_count) / n, (a.products - before.products) / n * 1e6,
-              (a.preconditioner - before.preconditioner) / n * 1e6, (a.correction - before.correction) / n * 1e6);
-  const double products = double(a.product_count - before.product_count);
-  std::printf("per product (us): spreading %.0f, step-4 solve %.0f, projection %.0f, interpolation %.0f\n",
-              (a.product_spread - before.product_spread) / products * 1e6, (a.product_solve - before.product_solve) / products * 1e6,
-              (a.product_project - before.product_project) / products * 1e6,
-              ((a.products - before.products) - (a.product_spread - before.product_spread) - (a.product_solve - before.product_solve) -
-               (a.product_project - before.product_project)) / products * 1e6);
+  constexpr int kAbove = rbc::SemiImplicitMembraneStep::kRebuildAboveIterations, kRound = 10;
+  for (int done = 0; done < steps; done += kRound)
+    for (Run& r : runs) {
+      const auto t0 = clk::now();
+      for (int i = done; i < std::min(steps, done + kRound); ++i) {
+        r.sim->step();
+        r.sim->check_health();
+        const int it = r.sim->last_coupling_iterations();
+        r.sum += it;
+        r.above += it > kAbove;
+        r.most = std::max(r.most, it);
+      }
+      r.seconds += std::chrono::duration<double>(clk::now() - t0).count();
+    }
+  std::printf("%-7s %10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "blocks", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove,
+              "it_max", "blocks/step", "interval", "fresh_steps");
+  for (std::size_t v = 0; v < runs.size(); ++v) {
+    const Run& r = runs[v];
+    const double step = r.seconds / steps;
+    const auto& a = r.sim->semi_implicit_step()->cost();
+    const auto& before = r.before;
+    const double n = double(a.steps - before.steps);
+    const double builds = double(a.block_builds - before.block_builds) / scene.cells.size();
+    std::printf("%-7s %10.0f %9.1f %9.1f %9.2f %9.1f%% %9d %12.3f %9.1f %12ld\n", variants[v].c_str(), step * 1e6, 1.0 / step, step / f.pair2d,
+                double(r.sum) / steps, 100.0 * r.above / steps, r.most, builds / n, builds > 0 ? n / builds : 0.0,
+                a.fresh_rebuilds - before.fresh_rebuilds);
+    std::printf("per step (us): predictor %.0f, blocks %.0f, coupled solve %.0f (%.2f products: %.0f, preconditioner sweeps: %.0f), correction %.0f\n",
+                (a.predictor - before.predictor) / n * 1e6, (a.blocks - before.blocks) / n * 1e6, (a.coupled - before.coupled) / n * 1e6,
+                (a.product_count - before.product_count) / n, (a.products - before.products) / n * 1e6,
+                (a.preconditioner - before.preconditioner) / n * 1e6, (a.correction - before.correction) / n * 1e6);
+    const double products = double(a.product_count - before.product_count);
+    std::printf("per product (us): spreading %.0f, step-4 solve %.0f, projection %.0f, interpolation %.0f\n",
+                (a.product_spread - before.product_spread) / products * 1e6, (a.product_solve - before.product_solve) / products * 1e6,
+                (a.product_project - before.product_project) / products * 1e6,
+                ((a.products - before.products) - (a.product_spread - before.product_spread) - (a.product_solve - before.product_solve) -
+                 (a.product_project - before.product_project)) / products * 1e6);
+  }
+  if (runs.size() == 2)
+    std::printf("%s over %s: %.3f of the step (alternating every %d steps in this process)\n", variants[1].c_str(), variants[0].c_str(),
+                runs[1].seconds / runs[0].seconds, kRound);
 }
 
 int main(int argc, char** argv) {
@@ -362,13 +390,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_channel: --coupling-start %s (allowed: linear, constant)\n", crowd_start.c_str());
     return 2;
   }
-  if (!crowd_blocks.empty() && crowd_blocks != "fixed" && crowd_blocks != "turned") {
-    std::fprintf(stderr, "bench_channel: --coupling-blocks %s (allowed: fixed, turned)\n", crowd_blocks.c_str());
-    return 2;
+  std::vector<std::string> blocks_list;  // --coupling-blocks: one, or several separated by commas (alternated)
+  for (std::size_t a = 0; !crowd_blocks.empty() && a <= crowd_blocks.size();) {
+    const std::size_t comma = std::min(crowd_blocks.find(',', a), crowd_blocks.size());
+    blocks_list.push_back(crowd_blocks.substr(a, comma - a));
+    a = comma + 1;
   }
+  for (const std::string& b : blocks_list)
+    if (b != "fixed" && b != "turned") {
+      std::fprintf(stderr, "bench_channel: --coupling-blocks %s (allowed: fixed, turned, or both separated by a comma)\n", crowd_blocks.c_str());
+      return 2;
+    }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, crowd_blocks);
+    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list);
     return 0;
   }
   if (disks_only) {
@@ -420,6 +455,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, crowd_blocks);
+  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list);
   return 0;
 }
