@@ -291,8 +291,10 @@ static void bench_disks() {
 // cells' preconditioner blocks (a checkpoint made before 2026-11-27 holds fixed blocks);
 // --coupling-blocks fixed,turned runs both from the same start in one process, alternating every
 // ten steps, so that the machine's hour falls on both alike (their ratio is the measurement).
+// --coupling-solves double|single sets the precision of the products' fluid solves (a checkpoint
+// made before 2026-11-27 morning holds double), and double,single alternates the two in the same way.
 static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start,
-                        const std::vector<std::string>& blocks) {
+                        const std::vector<std::string>& blocks, const std::vector<std::string>& solves) {
   const FftPairs f = fft_pairs(320, 160);
   const auto all = rbc::cell_free_layer::cases(rbc::cell_free_layer::Params{});
   const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
@@ -306,17 +308,25 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
     int most = 0;
     double seconds = 0;
   };
-  std::vector<std::string> variants = blocks.empty() ? std::vector<std::string>{scene.coupling_blocks} : blocks;
+  // The variants: the blocks and the solves given (or the scene's), one of the two alternated.
+  if (blocks.size() > 1 && solves.size() > 1)
+    throw std::invalid_argument("bench_channel: alternate --coupling-blocks or --coupling-solves, not both");
+  struct Variant { std::string blocks, solves, label; };
+  std::vector<Variant> variants;
+  for (const std::string& b : blocks.empty() ? std::vector<std::string>{scene.coupling_blocks} : blocks)
+    for (const std::string& v : solves.empty() ? std::vector<std::string>{scene.coupling_solves} : solves)
+      variants.push_back({b, v, b + "/" + v});
   std::string names;
-  for (const auto& b : variants) names += (names.empty() ? "" : " and ") + b;
-  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, %s blocks, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
+  for (const auto& v : variants) names += (names.empty() ? "" : " and ") + v.label;
+  std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, %s blocks/solves, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
               scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), names.c_str(),
               scene.repulsion_strength > 0 ? "on" : "off",
               from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
   std::vector<Run> runs(variants.size());
   for (std::size_t v = 0; v < variants.size(); ++v) {
-    scene.coupling_blocks = variants[v];
+    scene.coupling_blocks = variants[v].blocks;
+    scene.coupling_solves = variants[v].solves;
     runs[v].sim = std::make_unique<rbc::Simulation>(scene);
     rbc::Simulation& sim = *runs[v].sim;
     if (from.empty())
@@ -340,7 +350,7 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
       }
       r.seconds += std::chrono::duration<double>(clk::now() - t0).count();
     }
-  std::printf("%-7s %10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "blocks", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove,
+  std::printf("%-14s %10s %9s %9s %9s %8s>%d %9s %12s %9s %12s\n", "blocks/solves", "step_us", "steps/s", "step/2d", "gmres_it", "it", kAbove,
               "it_max", "blocks/step", "interval", "fresh_steps");
   for (std::size_t v = 0; v < runs.size(); ++v) {
     const Run& r = runs[v];
@@ -349,7 +359,7 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
     const auto& before = r.before;
     const double n = double(a.steps - before.steps);
     const double builds = double(a.block_builds - before.block_builds) / scene.cells.size();
-    std::printf("%-7s %10.0f %9.1f %9.1f %9.2f %9.1f%% %9d %12.3f %9.1f %12ld\n", variants[v].c_str(), step * 1e6, 1.0 / step, step / f.pair2d,
+    std::printf("%-14s %10.0f %9.1f %9.1f %9.2f %9.1f%% %9d %12.3f %9.1f %12ld\n", variants[v].label.c_str(), step * 1e6, 1.0 / step, step / f.pair2d,
                 double(r.sum) / steps, 100.0 * r.above / steps, r.most, builds / n, builds > 0 ? n / builds : 0.0,
                 a.fresh_rebuilds - before.fresh_rebuilds);
     std::printf("per step (us): predictor %.0f, blocks %.0f, coupled solve %.0f (%.2f products: %.0f, preconditioner sweeps: %.0f), correction %.0f\n",
@@ -364,7 +374,7 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
                  (a.product_project - before.product_project)) / products * 1e6);
   }
   if (runs.size() == 2)
-    std::printf("%s over %s: %.3f of the step (alternating every %d steps in this process)\n", variants[1].c_str(), variants[0].c_str(),
+    std::printf("%s over %s: %.3f of the step (alternating every %d steps in this process)\n", variants[1].label.c_str(), variants[0].label.c_str(),
                 runs[1].seconds / runs[0].seconds, kRound);
 }
 
@@ -372,7 +382,7 @@ int main(int argc, char** argv) {
   int threads = 0;
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
-  std::string crowd_from, crowd_case = "n100", crowd_start, crowd_blocks;
+  std::string crowd_from, crowd_case = "n100", crowd_start, crowd_blocks, crowd_solves;
   for (int a = 1; a < argc; ++a) {
     if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
     if (std::string(argv[a]) == "--cells-only") cells_only = true;
@@ -385,25 +395,37 @@ int main(int argc, char** argv) {
     if (std::string(argv[a]) == "--crowd-case" && a + 1 < argc) crowd_case = argv[a + 1];
     if (std::string(argv[a]) == "--coupling-start" && a + 1 < argc) crowd_start = argv[a + 1];
     if (std::string(argv[a]) == "--coupling-blocks" && a + 1 < argc) crowd_blocks = argv[a + 1];
+    if (std::string(argv[a]) == "--coupling-solves" && a + 1 < argc) crowd_solves = argv[a + 1];
   }
   if (!crowd_start.empty() && crowd_start != "linear" && crowd_start != "constant") {
     std::fprintf(stderr, "bench_channel: --coupling-start %s (allowed: linear, constant)\n", crowd_start.c_str());
     return 2;
   }
-  std::vector<std::string> blocks_list;  // --coupling-blocks: one, or several separated by commas (alternated)
-  for (std::size_t a = 0; !crowd_blocks.empty() && a <= crowd_blocks.size();) {
-    const std::size_t comma = std::min(crowd_blocks.find(',', a), crowd_blocks.size());
-    blocks_list.push_back(crowd_blocks.substr(a, comma - a));
-    a = comma + 1;
-  }
-  for (const std::string& b : blocks_list)
-    if (b != "fixed" && b != "turned") {
-      std::fprintf(stderr, "bench_channel: --coupling-blocks %s (allowed: fixed, turned, or both separated by a comma)\n", crowd_blocks.c_str());
-      return 2;
+  // --coupling-blocks, --coupling-solves: one value, or both separated by a comma (alternated).
+  auto values = [](const std::string& option, const std::string& given, const std::string& a, const std::string& b) {
+    std::vector<std::string> list;
+    for (std::size_t k = 0; !given.empty() && k <= given.size();) {
+      const std::size_t comma = std::min(given.find(',', k), given.size());
+      list.push_back(given.substr(k, comma - k));
+      k = comma + 1;
     }
+    for (const std::string& v : list)
+      if (v != a && v != b)
+        throw std::invalid_argument("bench_channel: " + option + " " + given + " (allowed: " + a + ", " + b + ", or both separated by a comma)");
+    return list;
+  };
+  std::vector<std::string> blocks_list, solves_list;
+  try {
+    blocks_list = values("--coupling-blocks", crowd_blocks, "fixed", "turned");
+    solves_list = values("--coupling-solves", crowd_solves, "double", "single");
+    if (blocks_list.size() > 1 && solves_list.size() > 1) throw std::invalid_argument("bench_channel: alternate --coupling-blocks or --coupling-solves, not both");
+  } catch (const std::invalid_argument& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 2;
+  }
   if (threads > 0) omp_set_num_threads(threads);
   if (crowd_only) {
-    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list);
+    bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list, solves_list);
     return 0;
   }
   if (disks_only) {
@@ -455,6 +477,6 @@ int main(int argc, char** argv) {
   bench_target(10);
   bench_constriction();
   bench_disks();
-  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list);
+  bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list, solves_list);
   return 0;
 }

@@ -188,6 +188,51 @@ TEST(QuasiStokes, DiscreteDivergenceAfterProjectionIsBelowTheCgTolerance) {
   }
 }
 
+TEST(ImplicitDiffusion, TheForceResponseLeavesZerosForTheNextProductAndNothingElseDoes) {
+  // The GMRES products spread into zeroed_force_rhs() and call force_response(), which clears the
+  // right-hand sides as its solve reads them, so that the next zeroed_force_rhs() skips its own
+  // clearing. The response must be add_force_response's to the bit; the next hand-out must be
+  // zeros after force_response, and after diffuse() and add_force_response(), which leave their own
+  // right-hand sides (their solutions) in the same arrays.
+  ChannelFlowParams p = narrow_channel(0.25e-6, 1e-7);
+  ChannelFlow flow(p);
+  set_divergent_field(flow);
+  ImplicitDiffusion& d = flow.diffusion();
+  const ChannelMesh& m = flow.mesh();
+  const std::size_t n = std::size_t(m.nx) * (m.ny - 1);
+  const VelocityField force = flow.velocity();  // any field: here the divergent one, as N/m³
+  auto all_zero = [n](std::pair<double*, double*> f) {
+    for (std::size_t k = 0; k < n; ++k)
+      if (f.first[k] != 0.0 || f.second[k] != 0.0) return false;
+    return true;
+  };
+  auto fill = [&](std::pair<double*, double*> f) {
+    for (std::size_t k = 0; k < n; ++k) {
+      f.first[k] += m.h * m.h * force.u1[m.nx + k];
+      f.second[k] += m.h * m.h * force.u2[m.nx + k];
+    }
+  };
+  VelocityField expected(m), response(m);
+  d.add_force_response(expected, force);
+  for (int round = 0; round < 3; ++round) {
+    const auto rhs = d.zeroed_force_rhs();
+    EXPECT_TRUE(all_zero(rhs)) << "round " << round;
+    fill(rhs);
+    d.force_response(response);
+    EXPECT_EQ(response.u1, expected.u1) << "round " << round;
+    EXPECT_EQ(response.u2, expected.u2) << "round " << round;
+    // Between products, the other solves of step 4 use the same arrays.
+    if (round == 0) {
+      const double body[2] = {p.body_force, 0.0};
+      VelocityField u = flow.velocity();
+      d.diffuse(u, body, &force);
+    } else if (round == 1) {
+      VelocityField u(m);
+      d.add_force_response(u, force);
+    }
+  }
+}
+
 TEST(QuasiStokes, TheExactProjectionIsTheProjectionWithoutItsResidualCheck) {
   // project_exact (the semi-implicit coupling's GMRES products) inverts S once with the fast
   // solver and skips CG's check; S⁻¹ is exact up to round-off, so its result must be the CG

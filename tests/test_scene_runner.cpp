@@ -97,6 +97,12 @@ TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
             "turned");
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_blocks=rotated"}),
                {"[solver] coupling_blocks", "fixed", "turned"});
+  // The precision of its products' solves: "double" unless the scene says "single".
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_solves, "double");
+  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_solves=single"}).coupling_solves,
+            "single");
+  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_solves=half"}),
+               {"[solver] coupling_solves", "double", "single"});
   // 25 um x 0.5 mm at h = 0.25 um: 100 x 2000 cells, a 24 GiB table.
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "channel.length=25e-6", "channel.height=0.5e-3"}),
                {"[time] coupling", "GiB", "coarser"});
@@ -236,6 +242,15 @@ TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
   EXPECT_TRUE(read_finished_run(out.string(), turned).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
   j["coupling_blocks"] = "fixed";
+  write();
+  Scene single = constant;  // no coupling_solves in the summary: double, the only one then
+  single.coupling_solves = "single";
+  EXPECT_FALSE(read_finished_run(out.string(), single).has_value());
+  j["coupling_solves"] = "single";
+  write();
+  EXPECT_TRUE(read_finished_run(out.string(), single).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
+  j["coupling_solves"] = "double";
   write();
   Scene one = constant;  // one cell: its block is its whole system, GMRES does not run
   one.cells.pop_back();

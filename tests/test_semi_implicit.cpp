@@ -475,6 +475,37 @@ TEST(SemiImplicit, TurnedBlocksTakeTheSameStepsToTheSolversTolerance) {
                                                  "turned against fixed blocks");
 }
 
+TEST(SemiImplicit, SingleSolvesTakeTheSameStepsToTheSolversTolerance) {
+  // [solver] coupling_solves = "single": the products' step-4 and pressure solves in single
+  // precision (relative error ≈ 1e-7, FastSolvers.TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff)
+  // against GMRES's 1e-4: the steps are the same to the solver's tolerance.
+  expect_the_same_steps_to_the_solvers_tolerance([](Scene& s) { s.coupling_solves = "single"; },
+                                                 "single against double solves");
+}
+
+TEST(SemiImplicit, SingleSolvesAreRefusedWhereStep4HasNoSinglePrecisionForm) {
+  // An obstacle or a disk makes step 4 a constrained solve, the Laplacian preconditioner makes the
+  // projection iterate: a scene asking for single solves there is refused, naming the key.
+  Scene s = three_cells(0.25e-6, 1e-6, 10, 2);
+  s.coupling_solves = "single";
+  auto refused = [](const Scene& scene, const char* why) {
+    try {
+      Simulation sim(scene);
+      ADD_FAILURE() << why << ": not refused";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("[solver] coupling_solves"), std::string::npos) << e.what();
+    }
+  };
+  Scene obstacle = s;
+  obstacle.obstacles = {Obstacle{{1e-6, 2e-6}, {0.0, 0.5e-6}, "bottom"}};
+  refused(obstacle, "an obstacle");
+  Scene laplacian = s;
+  laplacian.pressure_preconditioner = "laplacian";
+  refused(laplacian, "the Laplacian preconditioner");
+  s.coupling_solves = "quad";
+  refused(s, "an unknown precision");
+}
+
 TEST(SemiImplicit, TurnedBlocksRestOnTheStiffnessTurningWithTheCell) {
   // What turned blocks rely on (semi_implicit_coupling.hpp): a cell turned rigidly by R and moved
   // has K(R r + t) = R K(r) Rᵀ node by node (the springs' energies do not change), and

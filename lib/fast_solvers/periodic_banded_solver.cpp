@@ -24,9 +24,47 @@ std::mutex& fftw_planner_lock() {
   static std::mutex m;
   return m;
 }
+
+// FFTW's double (fftw_) and single (fftwf_) interfaces under one name; complex arrays are
+// handled as interleaved Real pairs.
+template <class Real>
+struct Fftw;
+template <>
+struct Fftw<double> {
+  using Plan = fftw_plan;
+  static double* alloc(std::size_t n) { return fftw_alloc_real(n); }
+  static void free(double* p) { fftw_free(p); }
+  static int alignment_of(double* p) { return fftw_alignment_of(p); }
+  static Plan r2c(int* n, int count, double* re, int nx, double* sp, int nk) {
+    return fftw_plan_many_dft_r2c(1, n, count, re, nullptr, 1, nx, reinterpret_cast<fftw_complex*>(sp), nullptr, 1, nk, FFTW_ESTIMATE);
+  }
+  static Plan c2r(int* n, int count, double* sp, int nk, double* re, int nx) {
+    return fftw_plan_many_dft_c2r(1, n, count, reinterpret_cast<fftw_complex*>(sp), nullptr, 1, nk, re, nullptr, 1, nx, FFTW_ESTIMATE);
+  }
+  static void destroy(Plan p) { fftw_destroy_plan(p); }
+  static void r2c(Plan p, double* re, double* sp) { fftw_execute_dft_r2c(p, re, reinterpret_cast<fftw_complex*>(sp)); }
+  static void c2r(Plan p, double* sp, double* re) { fftw_execute_dft_c2r(p, reinterpret_cast<fftw_complex*>(sp), re); }
+};
+template <>
+struct Fftw<float> {
+  using Plan = fftwf_plan;
+  static float* alloc(std::size_t n) { return fftwf_alloc_real(n); }
+  static void free(float* p) { fftwf_free(p); }
+  static int alignment_of(float* p) { return fftwf_alignment_of(p); }
+  static Plan r2c(int* n, int count, float* re, int nx, float* sp, int nk) {
+    return fftwf_plan_many_dft_r2c(1, n, count, re, nullptr, 1, nx, reinterpret_cast<fftwf_complex*>(sp), nullptr, 1, nk, FFTW_ESTIMATE);
+  }
+  static Plan c2r(int* n, int count, float* sp, int nk, float* re, int nx) {
+    return fftwf_plan_many_dft_c2r(1, n, count, reinterpret_cast<fftwf_complex*>(sp), nullptr, 1, nk, re, nullptr, 1, nx, FFTW_ESTIMATE);
+  }
+  static void destroy(Plan p) { fftwf_destroy_plan(p); }
+  static void r2c(Plan p, float* re, float* sp) { fftwf_execute_dft_r2c(p, re, reinterpret_cast<fftwf_complex*>(sp)); }
+  static void c2r(Plan p, float* sp, float* re) { fftwf_execute_dft_c2r(p, reinterpret_cast<fftwf_complex*>(sp), re); }
+};
 }  // namespace
 
-PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel)
+template <class Real>
+BasicPeriodicBandedSolver<Real>::BasicPeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel)
     : nx_(nx), rows_(rows), nk_(nx / 2 + 1) {
   if (nx < 2 || rows < 1) throw std::invalid_argument("PeriodicBandedSolver: empty grid");
   // Probe: the response of A to a unit value at (0, j') for every row j'.
@@ -86,51 +124,67 @@ PeriodicBandedSolver::PeriodicBandedSolver(int nx, int rows, const Operator& app
         if (jp < 0 || jp >= rows_) continue;
         cplx v = entry(k, j, jp);
         if (o == band_) v = 1.0 / v;
-        fre_[(std::size_t(j) * w + o) * nk_ + k] = v.real();
-        fim_[(std::size_t(j) * w + o) * nk_ + k] = v.imag();
+        fre_[(std::size_t(j) * w + o) * nk_ + k] = Real(v.real());
+        fim_[(std::size_t(j) * w + o) * nk_ + k] = Real(v.imag());
       }
   // One batch of rows real transforms of length nx, planned once.
+  using F = Fftw<Real>;
   std::lock_guard<std::mutex> guard(fftw_planner_lock());
-  real_ = fftw_alloc_real(std::size_t(nx_) * rows_);
-  spec_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
-  real2_ = fftw_alloc_real(std::size_t(nx_) * rows_);
-  spec2_ = fftw_alloc_complex(std::size_t(nk_) * rows_);
+  real_ = F::alloc(std::size_t(nx_) * rows_);
+  spec_ = F::alloc(2 * std::size_t(nk_) * rows_);
+  real2_ = F::alloc(std::size_t(nx_) * rows_);
+  spec2_ = F::alloc(2 * std::size_t(nk_) * rows_);
   int n[] = {nx_};
   half_ = rows_ / 2;
   for (int h = 0; h < 2; ++h) {
     const int first = h == 0 ? 0 : half_, count = h == 0 ? half_ : rows_ - half_;
     if (count == 0) continue;
-    double* re = real_ + std::size_t(first) * nx_;
-    fftw_complex* sp = spec_ + std::size_t(first) * nk_;
-    forward_[h] = fftw_plan_many_dft_r2c(1, n, count, re, nullptr, 1, nx_, sp, nullptr, 1, nk_, FFTW_ESTIMATE);
-    backward_[h] = fftw_plan_many_dft_c2r(1, n, count, sp, nullptr, 1, nk_, re, nullptr, 1, nx_, FFTW_ESTIMATE);
+    Real* re = real_ + std::size_t(first) * nx_;
+    Real* sp = spec_ + 2 * std::size_t(first) * nk_;
+    forward_[h] = F::r2c(n, count, re, nx_, sp, nk_);
+    backward_[h] = F::c2r(n, count, sp, nk_, re, nx_);
   }
 }
 
-PeriodicBandedSolver::~PeriodicBandedSolver() {
+template <class Real>
+BasicPeriodicBandedSolver<Real>::~BasicPeriodicBandedSolver() {
+  using F = Fftw<Real>;
   std::lock_guard<std::mutex> guard(fftw_planner_lock());
-  for (fftw_plan p : {forward_[0], forward_[1], backward_[0], backward_[1]})
-    if (p) fftw_destroy_plan(p);
-  fftw_free(real_);
-  fftw_free(spec_);
-  fftw_free(real2_);
-  fftw_free(spec2_);
+  for (Plan p : {forward_[0], forward_[1], backward_[0], backward_[1]})
+    if (p) F::destroy(p);
+  F::free(real_);
+  F::free(spec_);
+  F::free(real2_);
+  F::free(spec2_);
 }
 
-void PeriodicBandedSolver::solve(const double* b, double* x) { solve_fields(1, &b, &x); }
+template <class Real>
+void BasicPeriodicBandedSolver<Real>::solve(const double* b, double* x) { solve_fields(1, &b, &x); }
 
-void PeriodicBandedSolver::solve_pair(const double* b1, const double* b2, double* x1, double* x2) {
+template <class Real>
+void BasicPeriodicBandedSolver<Real>::solve_pair(const double* b1, const double* b2, double* x1, double* x2) {
   const double* b[2] = {b1, b2};
   double* x[2] = {x1, x2};
   solve_fields(2, b, x);
 }
 
-void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, double* const* x) {
+template <class Real>
+void BasicPeriodicBandedSolver<Real>::solve_pair_clearing(double* b1, double* b2, double* x1, double* x2) {
+  const double* b[2] = {b1, b2};
+  double* x[2] = {x1, x2};
+  double* clear[2] = {b1, b2};
+  solve_fields(2, b, x, clear);
+}
+
+template <class Real>
+void BasicPeriodicBandedSolver<Real>::solve_fields(int fields, const double* const* b, double* const* x, double* const* clear) {
+  using F = Fftw<Real>;
+  constexpr bool single = std::is_same_v<Real, float>;
   const std::size_t size = std::size_t(nx_) * rows_;
-  double* real[2] = {real_, real2_};
-  double* spec[2] = {&spec_[0][0], &spec2_[0][0]};
+  Real* real[2] = {real_, real2_};
+  Real* spec[2] = {spec_, spec2_};
   const int w = 2 * band_ + 1;
-  const double scale = 1.0 / nx_;
+  const Real scale = Real(1) / Real(nx_);
   // Values [first, last) of row half h.
   auto half = [&](int h) { return std::pair<std::size_t, std::size_t>(h == 0 ? 0 : std::size_t(half_) * nx_, h == 0 ? std::size_t(half_) * nx_ : size); };
   // Row half h of field f into the spectrum by the half's own plan, on the field's own arrays.
@@ -138,33 +192,43 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
     if (!forward_[h]) return;
     const auto [first, last] = half(h);
     // The plan reads b directly where b is aligned as the plan's own array (FFTW's r2c leaves its
-    // input alone; same plan, same alignment: the same operations), else a copy of it.
-    const double* in = b[f] + first;
-    if (fftw_alignment_of(const_cast<double*>(in)) != fftw_alignment_of(real[f] + first)) {
-      std::memcpy(real[f] + first, in, sizeof(double) * (last - first));
-      in = real[f] + first;
+    // input alone; same plan, same alignment: the same operations), else a copy of it (single
+    // precision: always a copy, rounded).
+    Real* in = real[f] + first;
+    if constexpr (single) {
+      for (std::size_t i = first; i < last; ++i) real[f][i] = float(b[f][i]);
+    } else if (F::alignment_of(const_cast<double*>(b[f] + first)) == F::alignment_of(in)) {
+      in = const_cast<double*>(b[f] + first);
+    } else {
+      std::memcpy(in, b[f] + first, sizeof(double) * (last - first));
     }
     const int first_row = h == 0 ? 0 : half_;
-    fftw_execute_dft_r2c(forward_[h], const_cast<double*>(in), reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_);
+    F::r2c(forward_[h], in, spec[f] + 2 * std::size_t(first_row) * nk_);
+    if (clear) std::memset(clear[f] + first, 0, sizeof(double) * (last - first));
   };
   auto backward = [&](int h, int f) {
     if (!backward_[h]) return;
     const int first_row = h == 0 ? 0 : half_;
     const auto [first, last] = half(h);
-    fftw_execute_dft_c2r(backward_[h], reinterpret_cast<fftw_complex*>(spec[f]) + std::size_t(first_row) * nk_, real[f] + first);
-    for (std::size_t i = first; i < last; ++i) x[f][i] = real[f][i] * scale;
+    // Straight into x where x is aligned as the plan's own array (the same operations, as for b
+    // above), then scaled in place: one pass over the field fewer than through the plan's array.
+    Real* out = real[f];
+    if constexpr (!single)
+      if (F::alignment_of(x[f] + first) == F::alignment_of(real[f] + first)) out = x[f];
+    F::c2r(backward_[h], spec[f] + 2 * std::size_t(first_row) * nk_, out + first);
+    for (std::size_t i = first; i < last; ++i) x[f][i] = out[i] * scale;
   };
   // The substitutions of fields [f0, f1) over the modes [k0, k1). Every mode's arithmetic is the
   // same whatever the range, so the split between threads does not change the result.
   auto substitute = [&](int f0, int f1, int k0, int k1) {
     // c_j −= f c_q for every mode, f the factor entry (j, q).
     auto subtract = [&](int j, int q) {
-      const double* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk_];
-      const double* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk_];
+      const Real* fr = &fre_[(std::size_t(j) * w + (q - j + band_)) * nk_];
+      const Real* fi = &fim_[(std::size_t(j) * w + (q - j + band_)) * nk_];
       if (real_symbol_) {  // f real: both parts of c_q times f (what the complex path computes with Im f = 0)
         for (int f = f0; f < f1; ++f) {
-          double* cj = spec[f] + 2 * std::size_t(j) * nk_;
-          const double* cq = spec[f] + 2 * std::size_t(q) * nk_;
+          Real* cj = spec[f] + 2 * std::size_t(j) * nk_;
+          const Real* cq = spec[f] + 2 * std::size_t(q) * nk_;
           for (int k = k0; k < k1; ++k) {
             cj[2 * k] -= fr[k] * cq[2 * k];
             cj[2 * k + 1] -= fr[k] * cq[2 * k + 1];
@@ -173,9 +237,9 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
         return;
       }
       for (int f = f0; f < f1; ++f) {
-        double* s = spec[f];
+        Real* s = spec[f];
         for (int k = k0; k < k1; ++k) {
-          const double cr = s[2 * (std::size_t(q) * nk_ + k)], ci = s[2 * (std::size_t(q) * nk_ + k) + 1];
+          const Real cr = s[2 * (std::size_t(q) * nk_ + k)], ci = s[2 * (std::size_t(q) * nk_ + k) + 1];
           s[2 * (std::size_t(j) * nk_ + k)] -= fr[k] * cr - fi[k] * ci;
           s[2 * (std::size_t(j) * nk_ + k) + 1] -= fr[k] * ci + fi[k] * cr;
         }
@@ -187,11 +251,11 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
     // Back substitution with the upper factor: c_j = (c_j − Σ u_{j,q} c_q) / u_jj.
     for (int j = rows_ - 1; j >= 0; --j) {
       for (int q = j + 1; q <= std::min(rows_ - 1, j + band_); ++q) subtract(j, q);
-      const double* dr = &fre_[(std::size_t(j) * w + band_) * nk_];
-      const double* di = &fim_[(std::size_t(j) * w + band_) * nk_];
+      const Real* dr = &fre_[(std::size_t(j) * w + band_) * nk_];
+      const Real* di = &fim_[(std::size_t(j) * w + band_) * nk_];
       if (real_symbol_) {
         for (int f = f0; f < f1; ++f) {
-          double* cj = spec[f] + 2 * std::size_t(j) * nk_;
+          Real* cj = spec[f] + 2 * std::size_t(j) * nk_;
           for (int k = k0; k < k1; ++k) {
             cj[2 * k] *= dr[k];
             cj[2 * k + 1] *= dr[k];
@@ -200,9 +264,9 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
         continue;
       }
       for (int f = f0; f < f1; ++f) {
-        double* s = spec[f];
+        Real* s = spec[f];
         for (int k = k0; k < k1; ++k) {
-          const double cr = s[2 * (std::size_t(j) * nk_ + k)], ci = s[2 * (std::size_t(j) * nk_ + k) + 1];
+          const Real cr = s[2 * (std::size_t(j) * nk_ + k)], ci = s[2 * (std::size_t(j) * nk_ + k) + 1];
           s[2 * (std::size_t(j) * nk_ + k)] = dr[k] * cr - di[k] * ci;
           s[2 * (std::size_t(j) * nk_ + k) + 1] = dr[k] * ci + di[k] * cr;
         }
@@ -243,5 +307,8 @@ void PeriodicBandedSolver::solve_fields(int fields, const double* const* b, doub
     for (int task = 0; task < 2 * fields; ++task) backward(task % 2, task / 2);
   }
 }
+
+template class BasicPeriodicBandedSolver<double>;
+template class BasicPeriodicBandedSolver<float>;
 
 }  // namespace rbc

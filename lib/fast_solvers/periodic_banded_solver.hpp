@@ -16,6 +16,13 @@
 // A singular A whose kernel is the constant field (a Neumann problem) is handled at k = 0 by
 // replacing the last equation with x̂_0[rows-1] = 0; the solution is then defined up to the
 // constant, which the caller fixes (e.g. mean-zero pressure).
+//
+// Real is the precision of the transforms and substitutions: double (every solve of the fluid
+// steps), or float for solves that feed an iteration with a far looser tolerance (the semi-
+// implicit coupling's GMRES products, `[solver] coupling_solves = "single"`: relative error
+// ≈ 1e-7 against GMRES's 1e-4). Right-hand sides and solutions are double either way; the
+// factors are computed in double and rounded once.
+#include <type_traits>
 #include <complex>
 #include <functional>
 #include <vector>
@@ -24,21 +31,29 @@
 
 namespace rbc {
 
-class PeriodicBandedSolver {
+template <class Real>
+class BasicPeriodicBandedSolver {
+  static_assert(std::is_same_v<Real, double> || std::is_same_v<Real, float>);
+
  public:
   using Field = std::vector<double>;  // nx * rows values, x1 fastest
   using Operator = std::function<void(const Field& in, Field& out)>;
 
-  PeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel);
-  ~PeriodicBandedSolver();
-  PeriodicBandedSolver(const PeriodicBandedSolver&) = delete;
-  PeriodicBandedSolver& operator=(const PeriodicBandedSolver&) = delete;
+  BasicPeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel);
+  ~BasicPeriodicBandedSolver();
+  BasicPeriodicBandedSolver(const BasicPeriodicBandedSolver&) = delete;
+  BasicPeriodicBandedSolver& operator=(const BasicPeriodicBandedSolver&) = delete;
 
   // x = A^{-1} b (b and x may alias). For a constant kernel, b must be compatible (zero sum).
   void solve(const double* b, double* x);
   // x1 = A^{-1} b1 and x2 = A^{-1} b2 at once: the factors are read once for both, and each
   // result is the same, bit for bit, as solve() gives it (same plans, same operations).
   void solve_pair(const double* b1, const double* b2, double* x1, double* x2);
+  // solve_pair that leaves b1 and b2 zero: each half of a field's rows is cleared just after its
+  // transform has read it, while it is still in the thread's cache, so that a caller building the
+  // next right-hand side by adding into zeros (the GMRES products' spreading) needs no pass of its
+  // own to clear them. x1, x2 as solve_pair's, bit for bit.
+  void solve_pair_clearing(double* b1, double* b2, double* x1, double* x2);
   int half_bandwidth() const { return band_; }
   // Every factor real (an operator symmetric in x1): the substitutions multiply by reals only.
   bool real_symbol() const { return real_symbol_; }
@@ -52,18 +67,24 @@ class PeriodicBandedSolver {
   // The factors again, laid out for the solve: for row j and offset o = j'-j+b, the nk_ modes
   // are contiguous (real and imaginary parts apart), so the substitutions run over all modes at
   // once in unit stride; the diagonal holds 1/pivot.
-  std::vector<double> fre_, fim_;
+  std::vector<Real> fre_, fim_;
   bool real_symbol_ = false;
-  double* real_ = nullptr;
-  fftw_complex* spec_ = nullptr;
-  double* real2_ = nullptr;  // the second field of solve_pair (same alignment: the plans run on it too)
-  fftw_complex* spec2_ = nullptr;
-  void solve_fields(int fields, const double* const* b, double* const* x);
+  Real* real_ = nullptr;  // the plans' arrays: rows of nx values, and rows of nk interleaved complex values
+  Real* spec_ = nullptr;
+  Real* real2_ = nullptr;  // the second field of solve_pair (same alignment: the plans run on it too)
+  Real* spec2_ = nullptr;
+  // clear: null, or b again as writable arrays, zeroed once read (solve_pair_clearing).
+  void solve_fields(int fields, const double* const* b, double* const* x, double* const* clear = nullptr);
   // The rows in two halves, each with its own pair of plans, so that two threads can transform
   // them at once; the halves are the same whatever the thread count (results do not depend on it).
   int half_ = 0;  // first row of the second half
-  fftw_plan forward_[2] = {nullptr, nullptr}, backward_[2] = {nullptr, nullptr};
+  using Plan = std::conditional_t<std::is_same_v<Real, double>, fftw_plan, fftwf_plan>;
+  Plan forward_[2] = {nullptr, nullptr}, backward_[2] = {nullptr, nullptr};
   cplx& entry(int k, int j, int jp) { return lu_[(std::size_t(k) * rows_ + j) * (2 * band_ + 1) + (jp - j + band_)]; }
 };
+
+using PeriodicBandedSolver = BasicPeriodicBandedSolver<double>;
+// The same solver in single precision (double in and out): see the top of this file.
+using SinglePeriodicBandedSolver = BasicPeriodicBandedSolver<float>;
 
 }  // namespace rbc

@@ -43,7 +43,10 @@ class ImplicitDiffusion {
   // step 4's response to that force (m/s, zero on the walls). Saves add_force_response's passes
   // over whole fields when the force is built for this only (the semi-implicit GMRES products).
   std::pair<double*, double*> zeroed_force_rhs();
-  void force_response(VelocityField& out);
+  // single: the solve in single precision (build_single_precision_solver() first; unconstrained
+  // only), relative error ≈ 1e-7: for the GMRES products of coupling_solves = "single".
+  void force_response(VelocityField& out, bool single = false);
+  void build_single_precision_solver();
   // x = A⁻¹ b on the interior rows j = 1..ny-1 (nx (ny−1) values, x1 fastest), walls held at 0.
   void solve_interior(double* b);
   double dt() const { return dt_; }
@@ -55,14 +58,18 @@ class ImplicitDiffusion {
 
  private:
   void solve_both(double* b1, double* b2) {
+    rhs_zero_ = false;
     if (constraint_) constraint_->solve_pair(b1, b2);
     else solver_->solve_pair(b1, b2, b1, b2);
   }
   Step4Constraint* constraint_ = nullptr;
   ChannelMesh m_;
   double rho_, mu_, dt_;
+  PeriodicBandedSolver::Operator helmholtz_operator() const;
   std::unique_ptr<PeriodicBandedSolver> solver_;
+  std::unique_ptr<SinglePeriodicBandedSolver> single_;  // the same A⁻¹ in single precision (or null)
   std::vector<double> rhs_, rhs2_;  // the two components' right-hand sides
+  bool rhs_zero_ = false;           // both are zero already (force_response cleared them as it read them)
 };
 
 }  // namespace rbc

@@ -160,7 +160,16 @@ void QuasiStokesProjection::pressure_force(const std::vector<double>& p, Velocit
   }
 }
 
-void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt) {
+void QuasiStokesProjection::build_single_precision_solver() {
+  if (!exact_pc_) throw std::logic_error("QuasiStokesProjection: single precision needs the Schur preconditioner");
+  if (!single_pc_)
+    single_pc_ = std::make_unique<SinglePeriodicBandedSolver>(
+        mesh_.pnx(), mesh_.pny(), [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); },
+        true);
+}
+
+void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, bool single) {
+  if (single && !single_pc_) throw std::logic_error("QuasiStokesProjection: project_exact in single precision without its solver");
   if (!exact_pc_) {
     out = u;
     std::vector<double> p(mesh_.pressure_nodes(), 0.0);
@@ -169,7 +178,12 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
   }
   divergence(u, b_);
   scale(b_, -rho / dt);
-  precondition(b_, z_);  // p = S⁻¹ b, mean-zero
+  if (single) {  // p = S⁻¹ b, mean-zero
+    single_pc_->solve(b_.data(), z_.data());
+    remove_mean(z_);
+  } else {
+    precondition(b_, z_);
+  }
   add_pressure_gradient(u, z_, rho, dt, out);
 }
 

@@ -43,7 +43,10 @@ class QuasiStokesProjection {
   // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check
   // (B, one solve, Bᵀ: two stencil sweeps fewer than project()); with the Laplacian one, project()
   // from p = 0. out = P u (out may be u).
-  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt);
+  // single: S⁻¹ in single precision (build_single_precision_solver() first; the Schur
+  // preconditioner only), relative error ≈ 1e-7: for the products of coupling_solves = "single".
+  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, bool single = false);
+  void build_single_precision_solver();
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
@@ -61,6 +64,7 @@ class QuasiStokesProjection {
   std::vector<double> weights_;    // lumped weights of T_2h for the mean
   double total_weight_ = 0;        // their sum
   std::unique_ptr<PeriodicBandedSolver> pc_;
+  std::unique_ptr<SinglePeriodicBandedSolver> single_pc_;  // the Schur solve in single precision (or null)
   double tol_;
   bool exact_pc_ = false;
   double row_abs_norm_ = 0;  // ≈ ‖(Σ_n |B_qn|)_q‖₂, the scale of round-off in B u

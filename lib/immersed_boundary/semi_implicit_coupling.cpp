@@ -37,6 +37,17 @@ Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
 }
 }  // namespace
 
+void SemiImplicitMembraneStep::set_single_precision_solves(bool on) {
+  if (on) {
+    if (flow_.diffusion().constrained())
+      throw std::invalid_argument("coupling_solves = \"single\": the products' step-4 solve is the obstacle's constrained one, "
+                                  "which has no single-precision form (use \"double\")");
+    flow_.diffusion().build_single_precision_solver();
+    flow_.projection().build_single_precision_solver();
+  }
+  single_solves_ = on;
+}
+
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
   const auto t0 = std::chrono::steady_clock::now();
@@ -91,10 +102,10 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
   const auto t1 = std::chrono::steady_clock::now();
-  flow_.diffusion().force_response(response);
+  flow_.diffusion().force_response(response, single_solves_);
   cost_.product_solve += seconds_since(t1);
   const auto t2 = std::chrono::steady_clock::now();
-  flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_);
+  flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_, single_solves_);
   cost_.product_project += seconds_since(t2);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)

@@ -46,6 +46,18 @@
 // fewer steps exceed kRebuildAboveIterations and the blocks are rebuilt less often (100 cells in
 // cell_free_layer's developed crowd at 3e-6 s: 0.093 against 0.138 blocks a cell and step, 0.927
 // of the step on two threads; paper/method/04_semi_implicit_coupling.md).
+//
+// Single-precision solves ([solver] coupling_solves = "single"; set_single_precision_solves). A
+// product's two fluid solves, step 4's A⁻¹ (FFT in x1, tridiagonal in x2) and the projection's
+// S⁻¹, run in single precision (SinglePeriodicBandedSolver; double in and out, the stencils,
+// spreading and interpolation stay double). The product is then M K v to a relative error of a
+// few 1e-7 (FastSolvers.TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff: 4e-7 of step 4's
+// solution, 2e-7 of the projected velocity), far inside GMRES's tolerance of 1e-4, so the steps
+// are those of the double products to the solver's tolerance; the correction, a combination of
+// the products' responses, carries the same relative error. Half the bytes through the
+// transforms and substitutions: 0.918 of the 50 cells' step and 0.956 of the 100 cells' on two
+// threads (cell_free_layer's crowds; step 4's solve 307 → 241 and 286 → 221 µs a product). P u⁰ (the right-hand side) stays double. Not for a constrained step 4
+// (obstacles, disks) nor the Laplacian pressure preconditioner, which have no such form.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -121,6 +133,8 @@ class SemiImplicitMembraneStep {
   void set_start(Start start) { start_ = start; }
   // Apply each cell's block turned with the cell's rotation since it was built (see above).
   void set_turn_blocks(bool on) { turn_blocks_ = on; }
+  // The products' step-4 and pressure solves in single precision (see above; no obstacle).
+  void set_single_precision_solves(bool on);
   // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
   void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
   // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
@@ -191,6 +205,7 @@ class SemiImplicitMembraneStep {
   static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
   bool turn_blocks_ = false;
+  bool single_solves_ = false;  // the products' solves in single precision
   std::vector<Eigen::Matrix2d> turn_;  // each block's rotation onto its cell's nodes (turn_blocks_; empty: none)
   void fit_turns(const std::vector<Cell>& cells);
   void build_block(int c, const Points& r, double target_area, double kb_scale);

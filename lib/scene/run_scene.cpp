@@ -480,6 +480,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (coupling_by_gmres(scene)) {  // GMRES's start and tolerance (scene.hpp): they change the bits
     j["coupling_start"] = scene.coupling_start;
     j["coupling_blocks"] = scene.coupling_blocks;
+    j["coupling_solves"] = scene.coupling_solves;
     j["coupling_tolerance"] = scene.coupling_tolerance;
   }
   if (!cells.empty())
@@ -507,10 +508,11 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
       return std::nullopt;
     // Where the coupling's GMRES starts, how it preconditions and where it stops change the run
     // like a start perturbation (a summary without the keys is older than them: the straight-line
-    // start, fixed blocks and 1e-4, the only ones then).
+    // start, fixed blocks, double solves and 1e-4, the only ones then).
     if (coupling_by_gmres(scene) &&
         (j.value("coupling_start", std::string("linear")) != scene.coupling_start ||
          j.value("coupling_blocks", std::string("fixed")) != scene.coupling_blocks ||
+         j.value("coupling_solves", std::string("double")) != scene.coupling_solves ||
          j.value("coupling_tolerance", 1e-4) != scene.coupling_tolerance))
       return std::nullopt;
     RunSummary s;

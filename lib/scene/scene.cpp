@@ -28,7 +28,7 @@ const std::vector<TableSpec>& schema() {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "coupling_start", "coupling_blocks",
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "coupling_start", "coupling_blocks", "coupling_solves",
                   "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
       {"output", {"every", "vtk", "snapshots", "fields"}},
       {"contact", {"range", "strength"}},
@@ -410,6 +410,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
   s.coupling_start = r.word("solver", "coupling_start", {"linear", "constant"}, s.coupling_start);
   s.coupling_blocks = r.word("solver", "coupling_blocks", {"fixed", "turned"}, s.coupling_blocks);
+  s.coupling_solves = r.word("solver", "coupling_solves", {"double", "single"}, s.coupling_solves);
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
   s.disk_tolerance = r.number("solver", "disk_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.disk_tolerance);
@@ -616,7 +617,8 @@ std::string scene_to_toml(const Scene& s) {
     << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
     << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\ncoupling_start = \"" << s.coupling_start
-    << "\"\ncoupling_blocks = \"" << s.coupling_blocks << "\"\nobstacle_tolerance = " << num(s.obstacle_tolerance)
+    << "\"\ncoupling_blocks = \"" << s.coupling_blocks << "\"\ncoupling_solves = \"" << s.coupling_solves
+    << "\"\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
   o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
   o << "[repulsion]\nrange = " << num(s.repulsion_range > 0 ? s.repulsion_range : s.mesh_size) << "\nstrength = " << num(s.repulsion_strength) << "\n";

@@ -9,7 +9,8 @@
 //   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance, coupling_tolerance
 //             (relative residual of the semi-implicit coupling's cell-to-cell system),
 //             coupling_start ("linear" | "constant": where that system's GMRES starts),
-//             coupling_blocks ("fixed" | "turned": its preconditioner blocks turned with the cells)
+//             coupling_blocks ("fixed" | "turned": its preconditioner blocks turned with the cells),
+//             coupling_solves ("double" | "single": the precision of its products' fluid solves)
 //   [output]  every (s between samples), vtk (bool), snapshots = [t, …] (s; membrane shapes),
 //             fields (bool: the velocity field at the snapshot times, field_<k>.dat)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
@@ -104,6 +105,10 @@ struct Scene {
   // where the cells turn (measured: cell_free_layer's crowd). Off by default, so that the
   // other experiments keep their bits.
   std::string coupling_blocks = "fixed";
+  // The precision of that GMRES's products' step-4 and pressure solves (SemiImplicitMembraneStep,
+  // "Single-precision solves"): "double", or "single" (relative error ≈ 1e-7 against GMRES's
+  // tolerance; no obstacles or disks, the Schur pressure solve). Off by default, as above.
+  std::string coupling_solves = "double";
   double output_every = 0;  // s; 0 means end/100 (at least dt)
   bool vtk = false;
   std::vector<double> snapshots;  // s, sorted

@@ -56,6 +56,12 @@ void Simulation::build_cells() {
     if (scene.coupling_blocks != "fixed" && scene.coupling_blocks != "turned")
       throw std::invalid_argument("[solver] coupling_blocks: \"" + scene.coupling_blocks + "\" (allowed: \"fixed\", \"turned\")");
     semi_implicit_step_->set_turn_blocks(scene.coupling_blocks == "turned");
+    if (scene.coupling_solves != "double" && scene.coupling_solves != "single")
+      throw std::invalid_argument("[solver] coupling_solves: \"" + scene.coupling_solves + "\" (allowed: \"double\", \"single\")");
+    if (scene.coupling_solves == "single" && (!scene.obstacles.empty() || !scene.disks.empty() || scene.pressure_preconditioner != "schur"))
+      throw std::invalid_argument("[solver] coupling_solves = \"single\" needs a scene without obstacles or disks and "
+                                  "pressure_preconditioner = \"schur\" (their solves have no single-precision form; use \"double\")");
+    if (cells_.size() > 1) semi_implicit_step_->set_single_precision_solves(scene.coupling_solves == "single");
   }
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
