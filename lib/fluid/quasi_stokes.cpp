@@ -76,8 +76,9 @@ void QuasiStokesProjection::remove_mean(std::vector<double>& p) const {
 }
 
 
-void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z) {
-  pc_->solve(r.data(), z.data());
+void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z, bool single) {
+  if (single) single_pc_->solve(r.data(), z.data());
+  else pc_->solve(r.data(), z.data());
   remove_mean(z);
 }
 
@@ -178,12 +179,7 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
   }
   divergence(u, b_);
   scale(b_, -rho / dt);
-  if (single) {  // p = S⁻¹ b, mean-zero
-    single_pc_->solve(b_.data(), z_.data());
-    remove_mean(z_);
-  } else {
-    precondition(b_, z_);
-  }
+  precondition(b_, z_, single);  // p = S⁻¹ b, mean-zero
   add_pressure_gradient(u, z_, rho, dt, out);
 }
 

@@ -56,7 +56,8 @@ class QuasiStokesProjection {
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
   // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
   void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
-  void precondition(const std::vector<double>& r, std::vector<double>& z);
+  // z = S⁻¹ r (or the Laplacian's), mean-zero; single: single_pc_ (project_exact's products).
+  void precondition(const std::vector<double>& r, std::vector<double>& z, bool single = false);
 
   ChannelMesh mesh_;
   DivergenceStencil B_;            // B and Bᵀ (Bᵀ on the interior velocity nodes only)
