@@ -270,29 +270,15 @@ static void bench_disks() {
 // (blocks built per cell and step, their mean interval, steps that needed fresh blocks) and the
 // breakdown of the coupling's time.
 //
-// What it showed (2026-11-25, one thread, 600 steps): 32.3 ms a step (135 FFT pairs), 7.36
-// iterations, 1.8 % of the steps above 12, blocks rebuilt every 7.4 steps (7.1 ms a step, 22 %;
-// 52 ms a rebuild of 100 blocks against 2.0 ms a product with its sweep). The rebuild interval
-// stays short because the crowd's blocks do go stale that fast, not because of stray steps above
-// 12: a rule that rebuilt only once the iterations above the new blocks' baseline had cost as
-// much as a rebuild (the lagging rule of Newton-Krylov methods) let the interval grow to 10.5
-// steps and paid for it with 9.12 iterations, 17 % of the steps above 12, 6 steps that needed
-// fresh blocks and 35.3 ms a step (9 % slower); it was not kept.
-// Built for x86-64-v3 (CMakeLists.txt, RBCFLOW_ARCH=auto; 2026-11-25, 300 steps, alone on the
-// machine): 26.0 ms a step on one thread (113 FFT pairs; blocks 5.6 ms, products 10.0 ms, sweeps
-// 2.8 ms), 16.7 ms on two (71.6 FFT pairs; blocks 2.9, products 6.3, sweeps 1.4): 1.56 times
-// faster on two threads, 7.41 iterations a step either way.
+// Its numbers and what they mean are in bench/README.md (today's costs, one place).
 // With --crowd-from DIR it starts instead from the newest checkpoint in DIR (a run's output
 // folder, e.g. results/cell_free_layer/n100 part way), to measure the steps of a later phase.
 // --crowd-case NAME takes another case of cell_free_layer (--list-cases) from the developed
-// profile, e.g. n100_study_pressure (the study's form of the pressure). --coupling-start
-// linear|constant sets where the coupled GMRES starts (a checkpoint made before 2026-11-26 holds
-// the linear start, the scenes' default then); --coupling-blocks fixed|turned how it applies the
-// cells' preconditioner blocks (a checkpoint made before 2026-11-27 holds fixed blocks);
-// --coupling-blocks fixed,turned runs both from the same start in one process, alternating every
-// ten steps, so that the machine's hour falls on both alike (their ratio is the measurement).
-// --coupling-solves double|single sets the precision of the products' fluid solves (a checkpoint
-// made before 2026-11-27 morning holds double), and double,single alternates the two in the same way.
+// profile, e.g. n100_study_pressure (the study's form of the pressure). The coupled solve runs
+// with the library's CouplingOptions unless --coupling-start linear|constant, --coupling-blocks
+// fixed|turned or --coupling-solves double|single say otherwise; "fixed,turned" or
+// "double,single" runs both from the same start in one process, alternating every ten steps, so
+// that the machine's hour falls on both alike (their ratio is the measurement).
 static void bench_crowd(int steps, const std::string& from, const std::string& name, const std::string& start,
                         const std::vector<std::string>& blocks, const std::vector<std::string>& solves) {
   const FftPairs f = fft_pairs(320, 160);
@@ -300,7 +286,12 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
   const auto c = std::find_if(all.begin(), all.end(), [&](const rbc::cell_free_layer::Case& k) { return k.name == name; });
   if (c == all.end()) throw std::invalid_argument("bench_channel: --crowd-case " + name + " is not a case of cell_free_layer (--list-cases)");
   rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
-  if (!start.empty()) scene.coupling_start = start;  // --coupling-start (a checkpoint keeps the scene it was made with)
+  rbc::CouplingOptions options;  // the library's own, unless the flags below say otherwise
+  if (!start.empty()) options.start = start == "linear" ? rbc::CouplingOptions::Start::kLinear : rbc::CouplingOptions::Start::kConstant;
+  auto named = [](const rbc::CouplingOptions& o) {
+    return std::string(o.turn_blocks ? "turned" : "fixed") + "/" +
+           (o.product_precision == rbc::CouplingProducts::Precision::kDouble ? "double" : "single");
+  };
   struct Run {
     std::unique_ptr<rbc::Simulation> sim;
     rbc::SemiImplicitMembraneStep::Cost before;
@@ -313,21 +304,24 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
     throw std::invalid_argument("bench_channel: alternate --coupling-blocks or --coupling-solves, not both");
   struct Variant { std::string blocks, solves, label; };
   std::vector<Variant> variants;
-  for (const std::string& b : blocks.empty() ? std::vector<std::string>{scene.coupling_blocks} : blocks)
-    for (const std::string& v : solves.empty() ? std::vector<std::string>{scene.coupling_solves} : solves)
+  const std::string own = named(options), own_blocks = own.substr(0, own.find('/')), own_solves = own.substr(own.find('/') + 1);
+  for (const std::string& b : blocks.empty() ? std::vector<std::string>{own_blocks} : blocks)
+    for (const std::string& v : solves.empty() ? std::vector<std::string>{own_solves} : solves)
       variants.push_back({b, v, b + "/" + v});
   std::string names;
   for (const auto& v : variants) names += (names.empty() ? "" : " and ") + v.label;
   std::printf("\nThe crowd: %zu cells, semi-implicit at %.3g s, %s pressure, %s start, %s blocks/solves, repulsion %s, from %s, %d steps (FFT pair 2D: %.1f us)\n",
-              scene.cells.size(), scene.dt, scene.projection.c_str(), scene.coupling_start.c_str(), names.c_str(),
+              scene.cells.size(), scene.dt, scene.projection.c_str(),
+              options.start == rbc::CouplingOptions::Start::kLinear ? "linear" : "constant", names.c_str(),
               scene.repulsion_strength > 0 ? "on" : "off",
               from.empty() ? ("the developed profile (cell_free_layer's " + name + ")").c_str() : ("the checkpoint in " + from).c_str(), steps,
               f.pair2d * 1e6);
   std::vector<Run> runs(variants.size());
   for (std::size_t v = 0; v < variants.size(); ++v) {
-    scene.coupling_blocks = variants[v].blocks;
-    scene.coupling_solves = variants[v].solves;
-    runs[v].sim = std::make_unique<rbc::Simulation>(scene);
+    options.turn_blocks = variants[v].blocks == "turned";
+    options.product_precision = variants[v].solves == "double" ? rbc::CouplingProducts::Precision::kDouble
+                                                               : rbc::CouplingProducts::Precision::kSingleWherePossible;
+    runs[v].sim = std::make_unique<rbc::Simulation>(scene, options);
     rbc::Simulation& sim = *runs[v].sim;
     if (from.empty())
       sim.start_from_cell_free_profile();

@@ -28,7 +28,7 @@ TEST(ConstrictionExperiment, QuickRunMatchesItsRegressionRecordAndTheStudysHemat
 
 // What make reproduce QUICK=1 does (paper/make_report.sh): the binary with an explicit --out, then
 // the experiment's gnuplot script reading that folder. (A quick run that wrote elsewhere than
-// --out left the script without data and failed CI, 2026-11-24.)
+// --out left the script without data and failed CI.)
 TEST(ConstrictionExperiment, QuickBinaryWritesWhereToldAndItsFiguresAreDrawn) {
   const std::filesystem::path dir = std::filesystem::temp_directory_path() / "rbcflow_constriction_binary";
   std::filesystem::remove_all(dir);

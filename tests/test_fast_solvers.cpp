@@ -8,6 +8,7 @@
 #include <omp.h>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
+#include "immersed_boundary/coupling_products.hpp"
 #include "fem/divergence_stencil.hpp"
 #include "fem/p1_operators.hpp"
 #include "fluid/diffusion.hpp"
@@ -117,7 +118,7 @@ TEST(FastSolvers, ThePairSolveGivesEachFieldBitForBitAsTheSingleSolve) {
 }
 
 TEST(FastSolvers, TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff) {
-  // The products' solves of coupling_solves = "single": step 4's pair on the wide grid and the
+  // The GMRES products' solves in single precision (coupling_products.hpp): step 4's pair on the wide grid and the
   // Schur complement's single solve on its coarse grid (a constant kernel: compared mean-free).
   // Claim: every value within 1e-6 of the field's largest (float's 6e-8, times the growth of
   // round-off through a transform of 320 and a substitution over 159 rows), on one and two
@@ -158,7 +159,7 @@ TEST(FastSolvers, TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff) {
     EXPECT_EQ(c2, std::vector<double>(b1.size(), 0.0));
   }
   omp_set_num_threads(threads);
-  // The projection of the products (project_exact), whose Schur complement solve is the other
+  // The products' projection (CouplingProducts::project), whose Schur complement solve is the other
   // single-precision one. What the products use is the projected velocity. (A first claim, on
   // the pressure values, within 1e-6 of the largest, failed at 1.6e-6: S is a Laplacian on T_2h,
   // its x1-constant mode conditioned ≈ (2 · 81/π)² ≈ 2.7e3, so its solve loses more of float's
@@ -166,7 +167,9 @@ TEST(FastSolvers, TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff) {
   // that carry the error have small gradients.) Claim: the projected velocity within 1e-6 of the
   // largest velocity, with a divergence-free part and a gradient part of the same size.
   QuasiStokesProjection proj(m, PressurePreconditioner::schur, 1e-12, 50);
-  proj.build_single_precision_solver();
+  ImplicitDiffusion diffusion(m, 1000.0, 1.2e-3, 3e-6);
+  CouplingProducts single_products(m, diffusion, proj, 1000.0, 3e-6, CouplingProducts::Precision::kSingleWherePossible);
+  ASSERT_TRUE(single_products.single_precision());
   VelocityField u(m);
   const std::vector<double> r1 = random_vector(m.velocity_nodes(), 7), r2 = random_vector(m.velocity_nodes(), 8);
   for (int j = 1; j < m.ny; ++j)
@@ -175,8 +178,8 @@ TEST(FastSolvers, TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff) {
       u.u2[m.v(i, j)] = r2[m.v(i, j)];
     }
   VelocityField pd(m), ps(m);
-  proj.project_exact(u, pd, 1000.0, 3e-6, false);
-  proj.project_exact(u, ps, 1000.0, 3e-6, true);
+  proj.project_exact(u, pd, 1000.0, 3e-6);
+  single_products.project(u, ps);
   const double e = std::max(largest_difference(pd.u1, ps.u1), largest_difference(pd.u2, ps.u2));
   std::printf("projection: single against double %.2e of the largest velocity\n", e);
   EXPECT_LT(e, 1e-6);

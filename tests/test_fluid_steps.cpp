@@ -10,6 +10,7 @@
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
+#include "immersed_boundary/coupling_products.hpp"
 
 namespace rbc {
 namespace {
@@ -134,7 +135,7 @@ double balanced_force_leak(double y0, double dt, bool incremental, double T = 30
 // it balances most of it), so cells near a wall feel a flow that is not there; this is the
 // 100-cell layer's Δt error (experiments/cell_free_layer/README.md, Deviations). The
 // incremental form carries the pressure into step 4, and the flow dies out. Measured
-// (2026-11-25; the Stokes scale of this force, max|f| w²/μ, is 0.36 m/s): the study's form leaves
+//: the study's form leaves
 // 3.45e-2 m/s with the bump 1 um off the wall at Δt = 3 us, 6.45e-3 at mid-channel, 4.66e-3 1 um
 // off the wall at 5e-8 s; at 0.75 us, after 150 us, 2.40e-2 against the incremental form's 2.8e-5.
 TEST(PressureSplitting, TheStudysFormLeaksABalancedForceMostNextToAWall) {
@@ -188,17 +189,18 @@ TEST(QuasiStokes, DiscreteDivergenceAfterProjectionIsBelowTheCgTolerance) {
   }
 }
 
-TEST(ImplicitDiffusion, TheForceResponseLeavesZerosForTheNextProductAndNothingElseDoes) {
-  // The GMRES products spread into zeroed_force_rhs() and call force_response(), which clears the
-  // right-hand sides as its solve reads them, so that the next zeroed_force_rhs() skips its own
-  // clearing. The response must be add_force_response's to the bit; the next hand-out must be
-  // zeros after force_response, and after diffuse() and add_force_response(), which leave their own
-  // right-hand sides (their solutions) in the same arrays.
+TEST(CouplingProducts, TheResponseIsStep4sAndLeavesZerosForTheNextProduct) {
+  // The GMRES products spread into force_rhs() and call response(), which clears the right-hand
+  // sides as its solve reads them, so that the next product adds into zeros with no pass of its
+  // own. In double precision the response must be add_force_response's to the bit, with or
+  // without step 4's other solves in between (they have their own arrays); the hand-out is zeros
+  // every time.
   ChannelFlowParams p = narrow_channel(0.25e-6, 1e-7);
   ChannelFlow flow(p);
   set_divergent_field(flow);
   ImplicitDiffusion& d = flow.diffusion();
   const ChannelMesh& m = flow.mesh();
+  CouplingProducts products(m, d, flow.projection(), p.fluid.density, p.dt, CouplingProducts::Precision::kDouble);
   const std::size_t n = std::size_t(m.nx) * (m.ny - 1);
   const VelocityField force = flow.velocity();  // any field: here the divergent one, as N/m³
   auto all_zero = [n](std::pair<double*, double*> f) {
@@ -215,14 +217,13 @@ TEST(ImplicitDiffusion, TheForceResponseLeavesZerosForTheNextProductAndNothingEl
   VelocityField expected(m), response(m);
   d.add_force_response(expected, force);
   for (int round = 0; round < 3; ++round) {
-    const auto rhs = d.zeroed_force_rhs();
+    const auto rhs = products.force_rhs();
     EXPECT_TRUE(all_zero(rhs)) << "round " << round;
     fill(rhs);
-    d.force_response(response);
+    products.response(response);
     EXPECT_EQ(response.u1, expected.u1) << "round " << round;
     EXPECT_EQ(response.u2, expected.u2) << "round " << round;
-    // Between products, the other solves of step 4 use the same arrays.
-    if (round == 0) {
+    if (round == 0) {  // step 4's own solves between two products
       const double body[2] = {p.body_force, 0.0};
       VelocityField u = flow.velocity();
       d.diffuse(u, body, &force);

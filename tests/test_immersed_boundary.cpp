@@ -186,7 +186,7 @@ std::string failure_of_narrow_run(double h, double dt, long steps) { return fail
 TEST(ExplicitCoupling, TimeStepAboveTheStabilityLimitStopsTheRunNamingTheCause) {
   // Measured (commit of this test): the study's narrow channel, one s* = 0.55 cell, SI reading,
   // area penalty on, is stable at Δt = 3.0e-8 s and unstable from 3.3e-8 s by the CFL and strain
-  // checks (2.62e-8 / 3.0e-8 s with the speed check of 2026-11-23, stability map). At 1e-7 s the run
+  // checks (2.62e-8 / 3.0e-8 s with the speed check of, stability map). At 1e-7 s the run
   // must stop within 100 steps with a message naming the cause.
   const std::string message = failure_of_narrow_run(0.125e-6, 1e-7, 100);
   ASSERT_FALSE(message.empty()) << "the unstable run was not stopped";
@@ -196,7 +196,7 @@ TEST(ExplicitCoupling, TimeStepAboveTheStabilityLimitStopsTheRunNamingTheCause) 
 }
 
 TEST(ExplicitCoupling, AMembraneOscillationBelowTheCflAndStrainLimitsStopsTheRun) {
-  // Measured (2026-11-23): the study's narrow channel on h = 0.25 um, one s* = 0.55 cell from
+  // Measured: the study's narrow channel on h = 0.25 um, one s* = 0.55 cell from
   // rest. At Δt = 6.5e-8 s the explicit coupling oscillates for ≈ 40 us (fluid up to 0.79 m/s,
   // the flow's peak is 0.1 m/s; 4.7 % strain: below CFL 1 and strain 1) and then settles; at
   // 6e-8 s the fluid stays below the peak (0.098 m/s) over 0.1 ms. The first must stop, naming
@@ -209,7 +209,7 @@ TEST(ExplicitCoupling, AMembraneOscillationBelowTheCflAndStrainLimitsStopsTheRun
 }
 
 TEST(ExplicitCoupling, AShortViolentBurstStopsTheRunAtOnce) {
-  // Measured (2026-11-23): narrow channel, h = 0.5 um, k_l × 100, one cell from rest at
+  // Measured: narrow channel, h = 0.5 um, k_l × 100, one cell from rest at
   // Δt = 1.14e-8 s: the fluid reaches 336 times the flow's peak speed for 9.2 ρh²/μ (1.9 us, from
   // 0.58 us), then calms down. Too short for the time above kMaxSpeedRatio; it must stop anyway.
   Scene s = narrow_scene(0.5e-6, 1.14e-8, std::lround(1e-5 / 1.14e-8));
@@ -220,7 +220,7 @@ TEST(ExplicitCoupling, AShortViolentBurstStopsTheRunAtOnce) {
 }
 
 TEST(ExplicitCoupling, AStiffCellsStartUpPulseDoesNotStopTheRun) {
-  // Measured (2026-11-23): the narrow channel on h = 0.125 um, one s* = 1 cell under the CGS
+  // Measured: the narrow channel on h = 0.125 um, one s* = 1 cell under the CGS
   // reading, from rest at Δt = 1.2e-9 s, started as the polygon inscribed in the circle of radius
   // R0 with the target π R0² (single_cell_migration's s* = 1 cell until issue 14: area 0.114 %
   // short of its target, springs 0.0285 % short of l0): the released membrane pushed the fluid to

@@ -99,7 +99,7 @@ TEST(ShapePreparation, SwellingRatioOneIsTheRegularPolygonAtRestAndFeelsNoForce)
   const PreparedShape p = prepare_shape(kStudy, 1.0);
   const double pi = std::numbers::pi, R0 = 2.8e-6;
   EXPECT_EQ(describe_shape(p.nodes).kind, "round");
-  // Bounds: round-off of sums over 76 nodes; measured 2026-11-23: perimeter 1.9e-16, area 2.6e-16,
+  // Bounds: round-off of sums over 76 nodes; Measured: perimeter 1.9e-16, area 2.6e-16,
   // target 2.6e-16 (relative), E_l 1.1e-27 k_l, E_s 3.4e-32 k_s, largest force 2.2e-14 k_l/l0.
   EXPECT_NEAR(perimeter(p.nodes), 2 * pi * R0, 1e-14 * 2 * pi * R0);
   EXPECT_NEAR(enclosed_area(p.nodes), (pi / 76) / std::tan(pi / 76) * pi * R0 * R0, 1e-14 * pi * R0 * R0);
@@ -198,7 +198,7 @@ namespace {
 
 // A cell's own bending stiffness (the study's k_b, 10, 100, 1000 k_b cells; [[cell]] kb_scale):
 // only E_b scales, and in a flow the stiffer cell stays rounder (circularity 4πA/P²; measured
-// 2026-11-24 after 0.5 ms: 0.990953 at k_b, 0.999138 at 1000 k_b).
+// after 0.5 ms: 0.990953 at k_b, 0.999138 at 1000 k_b).
 TEST(CellStiffness, KbScaleMultipliesOnlyTheBendingEnergyAndAStifferCellDeformsLess) {
   const MembraneModel m = MembraneModel::from(MembraneConstants{}, 76, 2.8e-6);
   const PreparedShape p = prepare_shape(m, 0.55);

@@ -53,7 +53,7 @@ TEST(ReferenceData, CheckerPassesWithinToleranceFailsOutsideAndSkipsWhatDidNotRu
 }
 
 TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutsideIt) {
-  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r", ""}};
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 3", "r", ""}};
   const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
   // Outside the study's 1 %, inside our own band: a DEVIATION, which is not a failure.
   CheckSummary s = compare_with_reference(rows, {{"re", {0.5205, {}, ""}}}, dev, true);
@@ -76,7 +76,7 @@ TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutside
 }
 
 TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun) {
-  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 4", "r", ""}};
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 3", "r", ""}};
   std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
   EXPECT_EQ(compare_with_reference(rows, {{"re", {0.52, {}, ""}}}, dev, false).failed, 1);
   dev["re"].applies = "any";

@@ -1,6 +1,6 @@
 // Freely moving neutrally buoyant rigid disks by the fictitious domain (lib/fictitious_domain/
 // rigid_disks.hpp; Glowinski, Pan, Hesla & Joseph 1999). Each test can fail: the bounds are
-// measured values with a stated margin (numbers in the comments, 2026-11-24).
+// measured values with a stated margin (numbers in the comments).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -93,7 +93,7 @@ TEST(RigidDisks, StepFourHoldsTheDiskRigidWithNoNetForceOrTorque) {
 
 // A disk at mid-height of a plane shear flow (walls at ∓U) stays there and spins at −γ̇/2, the
 // value for a free cylinder in unbounded Stokes shear, less the effect of the walls and of the
-// periodic images (2r/H = 0.2, period L = H): measured 2026-11-24 ω/(−γ̇/2) = 0.98867 at h = r/8
+// periodic images (2r/H = 0.2, period L = H): measured ω/(−γ̇/2) = 0.98867 at h = r/8
 // and 0.98770 at h = r/16, so the 1.2 % is the geometry's and the mesh moves it by 0.1 %; the
 // bounds: 2 % for the geometry (1.6 times the measured 1.2 %), 0.5 % between the two meshes. (With the incremental pressure form
 // 0.98013 and 0.97877.) The centre does not move at all: the boundary points are symmetric under
@@ -146,7 +146,7 @@ TEST(RigidDisks, DiskInShearFlowStaysAtMidHeightAndSpinsAtHalfTheShearRate) {
 // form of the pressure): 20 x 20 um channel, Re0 = 2 (mean speed 0.12 m/s), disk radius 2 um
 // (2r/H = 0.2), h = 0.25 um, Δt = 1e-6 s (Q = 2), from the developed flow, for 1 ms. In Stokes
 // flow a neutrally buoyant disk would not drift at all (reversibility): the drift is inertia's.
-// Measured 2026-11-24 (the printout): from 3.5 um up by 0.17 um, from 8.5 um down by 0.08 um
+// Measured (the printout): from 3.5 um up by 0.17 um, from 8.5 um down by 0.08 um
 // (with the lagged position and Δt = 2e-7 s: +0.18 and −0.11 um: Δt-independent). The pressure's
 // incremental form ([time] projection = "incremental") is NOT fit for disks: its lagged pressure
 // pushes a spinning, moving disk sideways at ≈ ω V Δt (at Δt = 1e-6 s this turned the near-centre
@@ -190,7 +190,7 @@ namespace {
 // placed 1.5h off the bottom wall, and (another run) two disks 1.5h apart, in a fluid at rest
 // without a body force, are pushed apart: the gaps grow and the force falls (as (range − gap)²,
 // so the gap nears the range ever more slowly). The two disks, placed symmetrically about a mesh
-// line, move apart with opposite velocities. Measured 2026-11-24: wall gap 1.5, 1.86, 1.94 h and
+// line, move apart with opposite velocities. Measured: wall gap 1.5, 1.86, 1.94 h and
 // pair gap 1.5, 1.90, 1.96 h at 0, 0.1, 0.3 ms; |V_0 + V_1| / max |V_0| = 9.9e-15.
 TEST(RigidDisks, ContactForcePushesDisksOffTheWallAndApart) {
   auto run = [](const std::vector<DiskSpec>& disks, std::vector<double>* gaps, double* asymmetry, long* contact_steps) {

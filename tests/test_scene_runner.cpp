@@ -85,24 +85,11 @@ TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
   expect_error(scene_error(kGood, {"time.coupling=implicit"}), {"[time] coupling", "explicit", "semi-implicit"});
   const std::string cell = "[[cell]]\ncenter = [2e-6, 1e-6]\nswelling_ratio = 0.55\n[membrane]\nradius = 0.5e-6\n";
   EXPECT_EQ(scene_error(kGood + cell, {"time.coupling=semi-implicit"}), "");
-  // Where the coupled GMRES starts: "linear" unless the scene says "constant"; anything else is named.
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_start, "linear");
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_start=constant"}).coupling_start,
-            "constant");
-  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_start=quadratic"}),
-               {"[solver] coupling_start", "linear", "constant"});
-  // How it applies the cells' blocks: "fixed" unless the scene says "turned"; anything else is named.
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_blocks, "fixed");
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_blocks=turned"}).coupling_blocks,
-            "turned");
-  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_blocks=rotated"}),
-               {"[solver] coupling_blocks", "fixed", "turned"});
-  // The precision of its products' solves: "double" unless the scene says "single".
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit"}).coupling_solves, "double");
-  EXPECT_EQ(parse_scene(kGood + cell, "scene.toml", {"time.coupling=semi-implicit", "solver.coupling_solves=single"}).coupling_solves,
-            "single");
-  expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "solver.coupling_solves=half"}),
-               {"[solver] coupling_solves", "double", "single"});
+  // How the coupled GMRES solves is the library's (CouplingOptions), not the scene's: the keys that
+  // once chose it are refused with a message that says so.
+  for (const char* key : {"coupling_start", "coupling_blocks", "coupling_solves"})
+    expect_error(scene_error(kGood + cell + "[solver]\n" + key + " = \"constant\"\n", {"time.coupling=semi-implicit"}),
+                 {key, "no longer a scene key", "CouplingOptions"});
   // 25 um x 0.5 mm at h = 0.25 um: 100 x 2000 cells, a 24 GiB table.
   expect_error(scene_error(kGood + cell, {"time.coupling=semi-implicit", "channel.length=25e-6", "channel.height=0.5e-3"}),
                {"[time] coupling", "GiB", "coarser"});
@@ -206,10 +193,10 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
 }
 
-// Where the semi-implicit coupling iterates (several cells, or one with obstacles), GMRES's start
-// and tolerance are part of the scheme too. The summary is written by hand here (a run of two
-// cells would take seconds for a check of the reading).
-TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
+// Where the semi-implicit coupling iterates (several cells, or one with obstacles), how GMRES
+// solves (CouplingOptions) and its tolerance are part of the run too. The summary is written by
+// hand here (a run of two cells would take seconds for a check of the reading).
+TEST(SceneRunner, ACrowdsRunIsReusedOnlyForTheSameCouplingOptionsAndTolerance) {
   const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse_start";
   std::filesystem::remove_all(out);
   Scene scene = parse_scene(kGood, "scene.toml");
@@ -219,46 +206,29 @@ TEST(SceneRunner, ACrowdsRunIsReusedOnlyForItsOwnCouplingStartAndTolerance) {
   nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   j["coupling"] = "semi-implicit";
   const auto write = [&] { std::ofstream(out / "summary.json") << j.dump(); };
-  write();  // no keys: an older summary, the linear start at 1e-4
-  ASSERT_EQ(scene.coupling_start, "linear");
+  write();  // no options recorded: a summary of a version whose solve could differ
   ASSERT_EQ(scene.coupling_tolerance, 1e-4);
-  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
-  Scene constant = scene;
-  constant.coupling_start = "constant";
-  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
-  j["coupling_start"] = "constant";
+  EXPECT_FALSE(read_finished_run(out.string(), scene).has_value());
+  j["coupling_options"] = describe(CouplingOptions{});
   j["coupling_tolerance"] = 1e-4;
   write();
-  EXPECT_TRUE(read_finished_run(out.string(), constant).has_value());
-  EXPECT_FALSE(read_finished_run(out.string(), scene).has_value());
-  Scene tighter = constant;
+  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
+  Scene tighter = scene;
   tighter.coupling_tolerance = 1e-5;
   EXPECT_FALSE(read_finished_run(out.string(), tighter).has_value());
-  Scene turned = constant;  // no coupling_blocks in the summary: fixed blocks, the only ones then
-  turned.coupling_blocks = "turned";
-  EXPECT_FALSE(read_finished_run(out.string(), turned).has_value());
-  j["coupling_blocks"] = "turned";
+  CouplingOptions linear;
+  linear.start = CouplingOptions::Start::kLinear;
+  j["coupling_options"] = describe(linear);
   write();
-  EXPECT_TRUE(read_finished_run(out.string(), turned).has_value());
-  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
-  j["coupling_blocks"] = "fixed";
-  write();
-  Scene single = constant;  // no coupling_solves in the summary: double, the only one then
-  single.coupling_solves = "single";
-  EXPECT_FALSE(read_finished_run(out.string(), single).has_value());
-  j["coupling_solves"] = "single";
-  write();
-  EXPECT_TRUE(read_finished_run(out.string(), single).has_value());
-  EXPECT_FALSE(read_finished_run(out.string(), constant).has_value());
-  j["coupling_solves"] = "double";
-  write();
-  Scene one = constant;  // one cell: its block is its whole system, GMRES does not run
+  EXPECT_FALSE(read_finished_run(out.string(), scene).has_value());
+  Scene one = scene;  // one cell: its block is its whole system, GMRES does not run
   one.cells.pop_back();
-  one.coupling_start = "linear";
   EXPECT_TRUE(read_finished_run(out.string(), one).has_value());
   one.obstacles = {Obstacle{{1e-6, 2e-6}, {0.0, 0.5e-6}, "bottom"}};  // ... unless an obstacle makes it iterate
+  one.projection = "study";
   EXPECT_FALSE(read_finished_run(out.string(), one).has_value());
-  one.coupling_start = "constant";
+  j["coupling_options"] = describe(CouplingOptions{});
+  write();
   EXPECT_TRUE(read_finished_run(out.string(), one).has_value());
 }
 

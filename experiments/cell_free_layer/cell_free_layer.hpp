@@ -1,6 +1,6 @@
 #pragma once
 // Experiment cell_free_layer — many cells and the plasma layer next to the walls (Shi, Pan &
-// Glowinski 2012, DOI 10.1002/fld.2455, Sec. 4.3, Figs. 9-10; SPEC section 5.3).
+// Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.3, Figs. 9-10; SPEC section 5.3).
 //
 // Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) 50 s* = 0.7 cells
 // (Hct 17.24 %, to 150 ms) and 100 cells (Hct 34.48 %, to 200 ms) leave a cell-free layer next to
@@ -76,7 +76,7 @@ inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 3e-3;
 // The membrane repulsion of the 100-cell cases (lib/membrane/membrane_repulsion.hpp): strength,
 // N/m, and range in mesh cells. Without it the 100 cells reach a wall at 10.1 ms (Δt = 3e-6 s;
 // at 6e-6 s, 4.0 ms); with it they kept 0.50-0.70 um off the walls to 34.7 ms (measured
-// 2026-11-24, README.md; the study's form of the pressure, the scheme then). In the incremental
+//, README.md; the study's form of the pressure, the scheme then). In the incremental
 // form (now the scene file's) the 100 cells keep apart without it for the full 200 ms
 // (n100_no_repulsion, rows within the arrangements' spread of the run with it); it stays on in
 // the 100-cell cases because it makes their steps about 2.5 times cheaper (fewer GMRES iterations

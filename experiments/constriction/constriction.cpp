@@ -28,7 +28,7 @@ bool recovered_region(double x, const Obstacle& block, double L) {
 // Error against run time (issue 15, item 4): the experiment's scene (blocks, 12 cells) from rest
 // to kConvTime over h and Δt, with both couplings. Semi-implicit: h = 1.25, 0.625, 0.3125 um and
 // Δt = 6, 3, 1.5, 0.75 us (the experiment runs at 0.3125 um, 3 us). Explicit: below its
-// stability limit (measured 2026-11-24 from rest: at h = 0.625 um 2e-7 s stops at step 19 with
+// stability limit (measured from rest: at h = 0.625 um 2e-7 s stops at step 19 with
 // the membranes oscillating, 1e-7 s runs; at h = 0.3125 um 1e-7 s stops at step 28, 5e-8 s runs),
 // Δt halving from the largest stable step. Reference: the finest explicit run (h = 0.3125 um, the smallest Δt);
 // error = RMS over the cells of the distance between centroids at kConvTime (x1 periodic), and
@@ -230,7 +230,7 @@ Results run(const Params& p) {
   // yet at the next entry) at the end, biconcave in their own frame (cell_diagnostics.hpp: both
   // faces dimpled, both ends convex, however the cell is tilted); every prepared cell is. The
   // flow-frame descriptor is counted too: it calls a tilted biconcave cell "other" (the first full
-  // run, 2026-11-24: 0 of 7 by it, the cells tilted by 20-45 degrees, see README.md).
+  // run,: 0 of 7 by it, the cells tilted by 20-45 degrees, see README.md).
   for (const CellState& c : res.summary.cells)
     if (recovered_region(c.centroid.x(), block, scene.length)) {
       ++res.wide_cells_end;

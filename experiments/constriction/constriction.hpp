@@ -1,6 +1,6 @@
 #pragma once
 // Experiment constriction — 12 cells through a 15 um passage (Shi, Pan & Glowinski 2012,
-// DOI 10.1002/fld.2455, Sec. 4.4, Figs. 11-13; SPEC section 5.4).
+// DOI 10.1002/fld.2455, Sec. 3.2, Figs. 11-13; SPEC section 5.4).
 //
 // Claim: in a 120 x 30 um channel with a 40 x 7.5 um block on each wall (centred at x1 = 60 um),
 // driven by the body force of the straight channel at Re0 = 1.667, twelve s* = 0.481 cells

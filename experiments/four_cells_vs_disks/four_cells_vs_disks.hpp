@@ -1,6 +1,6 @@
 #pragma once
 // Experiment four_cells_vs_disks — four cells of increasing bending stiffness against four rigid
-// disks (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Sec. 4.2, Figs. 6-8; SPEC section 5.2).
+// disks (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.2, Figs. 6-8; SPEC section 5.2).
 //
 // Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) four s* = 1 cells released
 // at (25, 10), (25, 40), (65, 10), (65, 40) um move toward the centreline and, after 200 ms, sit

@@ -75,8 +75,7 @@ void write_centred_snapshots(const fs::path& in_path, const fs::path& out_path) 
 }
 
 // A case's run time, in explicit node-steps: steps × mesh nodes, a semi-implicit step counted as
-// kSemiImplicitStepCost explicit ones on the same mesh. Measured in `make reproduce` (2026-11-23,
-// two cases at a time, one thread each): the wide channel's semi-implicit step (320 × 160, Q = 4)
+// kSemiImplicitStepCost explicit ones on the same mesh. Measured in `make reproduce`: the wide channel's semi-implicit step (320 × 160, Q = 4)
 // 12.3 ms, the narrow channel's explicit step (160 × 80) 0.97 ms: 3.2 times per node. Ordering by
 // steps alone started the three wide runs (the longest, 28 min each) last: 76 min in all against
 // 68 min for this order (both schedules worked out from the run times measured in that run).

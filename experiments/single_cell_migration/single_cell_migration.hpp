@@ -1,6 +1,6 @@
 #pragma once
 // Experiment single_cell_migration — one red blood cell in plane Poiseuille flow
-// (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Section 4.1, Figures 3, 4 and 5).
+// (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Section 3.1.1, Figures 3, 4 and 5).
 //
 // Claim: in the narrow channel (20 × 10 µm, h = 0.125 µm, Re0 = 0.5556) a cell released at
 // (5, 3) µm migrates to the centreline within a few ms; cells with s* = 0.55 and 0.7 take
@@ -27,7 +27,7 @@ struct Params {
   int threads = 0;  // OpenMP threads of each case (0: every core); the cases run one after the other
   bool progress = true;
 
-  // The study's parameters (Section 4.1) and our choices where it is silent.
+  // The study's parameters (Section 3.1.1) and our choices where it is silent.
   std::vector<double> swelling_ratios = {0.55, 0.7, 1.0};
   // k_l, k_b, k_s as the study gives them and their reading in 2D (units: chosen by the evidence
   // below, README.md); the experiment's cases all use these.

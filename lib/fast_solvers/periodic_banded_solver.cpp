@@ -279,8 +279,7 @@ void BasicPeriodicBandedSolver<Real>::solve_fields(int fields, const double* con
     // Two fields on two or more threads: a thread solves one field whole (both halves' transforms,
     // every mode's substitutions), so that no field crosses between the cores and no barrier
     // waits inside the solve. Step 4's pair on the wide grid, in place, two threads: 159-177 us
-    // against 213-259 us with the halves and modes shared, 304-325 us on one thread (2026-11-26,
-    // alternating runs); the 50 cells' crowd step 6-8 % faster, 18 % in the machine's slow phase
+    // against 213-259 us with the halves and modes shared, 304-325 us on one thread; the 50 cells' crowd step 6-8 % faster, 18 % in the machine's slow phase
     // (bench_channel --crowd-only, the two ways alternating in one run). The same operations per
     // value, so the same bits as one thread or solve().
 #pragma omp parallel num_threads(2)

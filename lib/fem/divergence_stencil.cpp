@@ -24,7 +24,7 @@ double* rows_buffer(std::size_t n) {
 // expression. The loops wrap in x1 only in their first or last column, which is written out
 // apart, so that the inner loops have no modulo or branch (the compiler vectorises them); every
 // value is the same expression, summed in the same order, as in the straightforward three passes
-// over the whole mesh that this replaced (same bits). Wide grid (320 x 160), 2026-11-26: B 107-128
+// over the whole mesh that this replaced (same bits). Wide grid (320 x 160),: B 107-128
 // → 53-60 us on one thread, 57-64 → 34-35 us on two; Bᵀ 65-74 → 57-58 and 36-40 → 30-36 us.
 void DivergenceStencil::apply(const std::vector<double>& u1, const std::vector<double>& u2,
                               std::vector<double>& div) const {

@@ -8,7 +8,7 @@ namespace rbc {
 
 // max |x_k| over n values: four running maxima, so that the loop is not one long chain of
 // dependent comparisons (such scans, three per solve, were the obstacle constraint's largest
-// cost in a perf profile of 2026-11-24).
+// cost in a perf profile of).
 inline double max_abs(const double* x, std::size_t n) {
   double m[4] = {0, 0, 0, 0};
   std::size_t k = 0;

@@ -76,11 +76,18 @@ PartVelocities part_velocities(const ObstacleGeometry& g, const VelocityField& u
     const double open = g.open_height(m.x(i));
     const bool narrow = open < m.height - 1e-9 * m.h;
     (narrow ? p.narrow : p.wide) += q[std::size_t(i)] / open;
+    (narrow ? p.narrow_flux : p.wide_flux) += q[std::size_t(i)];
     (narrow ? p.narrow_sections : p.wide_sections) += 1;
     (narrow ? p.narrow_height : p.wide_height) = open;
   }
-  if (p.narrow_sections) p.narrow /= p.narrow_sections;
-  if (p.wide_sections) p.wide /= p.wide_sections;
+  if (p.narrow_sections) {
+    p.narrow /= p.narrow_sections;
+    p.narrow_flux /= p.narrow_sections;
+  }
+  if (p.wide_sections) {
+    p.wide /= p.wide_sections;
+    p.wide_flux /= p.wide_sections;
+  }
   return p;
 }
 

@@ -62,6 +62,7 @@ class ObstacleGeometry {
 // nodes, exact for P1) over the open height, averaged over the part's sections, m/s.
 struct PartVelocities {
   double wide = 0, narrow = 0;  // m/s
+  double wide_flux = 0, narrow_flux = 0;  // m²/s, the mean flux through a section of each part
   double wide_height = 0, narrow_height = 0;  // m (the parts' open heights)
   int wide_sections = 0, narrow_sections = 0;
 };

@@ -1,16 +1,10 @@
 #include "fluid/diffusion.hpp"
 
-#include <stdexcept>
-
 namespace rbc {
 
 ImplicitDiffusion::ImplicitDiffusion(const ChannelMesh& mesh, double rho, double mu, double dt)
     : m_(mesh), rho_(rho), mu_(mu), dt_(dt), rhs_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0), rhs2_(rhs_.size(), 0.0) {
   solver_ = std::make_unique<PeriodicBandedSolver>(mesh.nx, mesh.ny - 1, helmholtz_operator(), false);
-}
-
-void ImplicitDiffusion::build_single_precision_solver() {
-  if (!single_) single_ = std::make_unique<SinglePeriodicBandedSolver>(m_.nx, m_.ny - 1, helmholtz_operator(), false);
 }
 
 PeriodicBandedSolver::Operator ImplicitDiffusion::helmholtz_operator() const {
@@ -50,7 +44,7 @@ void ImplicitDiffusion::diffuse(VelocityField& u, const double body_force[2], co
         for (int i = 0; i < nx; ++i) out[i] += mu_ * top[i];
     }
   }
-  solve_both(rhs_.data(), rhs2_.data());  // both components at once
+  solve_pair(rhs_.data(), rhs2_.data());  // both components at once
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < nx * rows; ++k) {
     u.u1[nx + k] = rhs_[k];
@@ -67,7 +61,7 @@ void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField
     rhs_[k] = h2 * field.u1[nx + k];
     rhs2_[k] = h2 * field.u2[nx + k];
   }
-  solve_both(rhs_.data(), rhs2_.data());
+  solve_pair(rhs_.data(), rhs2_.data());
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) {
     u.u1[nx + k] += rhs_[k];
@@ -75,35 +69,9 @@ void ImplicitDiffusion::add_force_response(VelocityField& u, const VelocityField
   }
 }
 
-std::pair<double*, double*> ImplicitDiffusion::zeroed_force_rhs() {
-  if (!rhs_zero_) {
-    const std::ptrdiff_t n = std::ptrdiff_t(rhs_.size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < n; ++k) rhs_[k] = rhs2_[k] = 0.0;
-  }
-  rhs_zero_ = false;  // the caller adds into them now
-  return {rhs_.data(), rhs2_.data()};
-}
-
-void ImplicitDiffusion::force_response(VelocityField& out, bool single) {
-  const int nx = m_.nx, n = nx * (m_.ny - 1);
-  for (int k = 0; k < nx; ++k) out.u1[k] = out.u2[k] = out.u1[nx + n + k] = out.u2[nx + n + k] = 0.0;  // walls
-  if (single && (constraint_ || !single_))
-    throw std::logic_error("ImplicitDiffusion: a single-precision response needs build_single_precision_solver() and no constraint");
-  if (!constraint_) {  // the fast solve writes the interior rows of out itself (no copy), and
-    // clears the right-hand sides as it reads them: the next zeroed_force_rhs() has nothing to do
-    // (the 50 cells' GMRES products: a memset of both fields, 3 % of the step's samples, saved).
-    if (single) single_->solve_pair_clearing(rhs_.data(), rhs2_.data(), out.u1.data() + nx, out.u2.data() + nx);
-    else solver_->solve_pair_clearing(rhs_.data(), rhs2_.data(), out.u1.data() + nx, out.u2.data() + nx);
-    rhs_zero_ = true;
-    return;
-  }
-  solve_both(rhs_.data(), rhs2_.data());
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k) {
-    out.u1[nx + k] = rhs_[k];
-    out.u2[nx + k] = rhs2_[k];
-  }
+void ImplicitDiffusion::solve_pair(double* b1, double* b2) {
+  if (constraint_) constraint_->solve_pair(b1, b2);
+  else solver_->solve_pair(b1, b2, b1, b2);
 }
 
 void ImplicitDiffusion::solve_interior(double* b) { solver_->solve(b, b); }

@@ -10,7 +10,6 @@
 //
 // a Helmholtz problem solved exactly by FFT in x1 and a tridiagonal solve in x2.
 #include <memory>
-#include <utility>
 #include <vector>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
@@ -37,16 +36,10 @@ class ImplicitDiffusion {
   // u += w, where w is step 4's response to the force density field (N/m³) alone:
   // zero on the walls, no body force, no u^{n+2/3} (A w = h² field; the step is linear in f).
   void add_force_response(VelocityField& u, const VelocityField& field);
-  // The same response for callers that spread straight into the solver's right-hand sides:
-  // zeroed_force_rhs() zeroes and hands out the two components' arrays (interior rows j = 1..ny-1,
-  // x1 fastest), into which the caller adds h² f (N/m); force_response(out) then sets out to
-  // step 4's response to that force (m/s, zero on the walls). Saves add_force_response's passes
-  // over whole fields when the force is built for this only (the semi-implicit GMRES products).
-  std::pair<double*, double*> zeroed_force_rhs();
-  // single: the solve in single precision (build_single_precision_solver() first; unconstrained
-  // only), relative error ≈ 1e-7: for the GMRES products of coupling_solves = "single".
-  void force_response(VelocityField& out, bool single = false);
-  void build_single_precision_solver();
+  // A⁻¹ in place on the two components' right-hand sides b1, b2 (interior rows j = 1..ny-1,
+  // x1 fastest; walls held at 0): the plain Helmholtz solve, or the constrained one when a
+  // constraint is installed. What the semi-implicit coupling's products call (coupling_products.hpp).
+  void solve_pair(double* b1, double* b2);
   // x = A⁻¹ b on the interior rows j = 1..ny-1 (nx (ny−1) values, x1 fastest), walls held at 0.
   void solve_interior(double* b);
   double dt() const { return dt_; }
@@ -55,21 +48,15 @@ class ImplicitDiffusion {
   bool constrained() const { return constraint_ != nullptr; }
   // The unconstrained A⁻¹ (what the constraint's own iterations call).
   PeriodicBandedSolver& helmholtz() { return *solver_; }
+  // The Helmholtz operator on the interior rows (what the fast solver inverts).
+  PeriodicBandedSolver::Operator helmholtz_operator() const;
 
  private:
-  void solve_both(double* b1, double* b2) {
-    rhs_zero_ = false;
-    if (constraint_) constraint_->solve_pair(b1, b2);
-    else solver_->solve_pair(b1, b2, b1, b2);
-  }
   Step4Constraint* constraint_ = nullptr;
   ChannelMesh m_;
   double rho_, mu_, dt_;
-  PeriodicBandedSolver::Operator helmholtz_operator() const;
   std::unique_ptr<PeriodicBandedSolver> solver_;
-  std::unique_ptr<SinglePeriodicBandedSolver> single_;  // the same A⁻¹ in single precision (or null)
   std::vector<double> rhs_, rhs2_;  // the two components' right-hand sides
-  bool rhs_zero_ = false;           // both are zero already (force_response cleared them as it read them)
 };
 
 }  // namespace rbc

@@ -76,9 +76,8 @@ void QuasiStokesProjection::remove_mean(std::vector<double>& p) const {
 }
 
 
-void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z, bool single) {
-  if (single) single_pc_->solve(r.data(), z.data());
-  else pc_->solve(r.data(), z.data());
+void QuasiStokesProjection::precondition(const std::vector<double>& r, std::vector<double>& z) {
+  pc_->solve(r.data(), z.data());
   remove_mean(z);
 }
 
@@ -161,16 +160,11 @@ void QuasiStokesProjection::pressure_force(const std::vector<double>& p, Velocit
   }
 }
 
-void QuasiStokesProjection::build_single_precision_solver() {
-  if (!exact_pc_) throw std::logic_error("QuasiStokesProjection: single precision needs the Schur preconditioner");
-  if (!single_pc_)
-    single_pc_ = std::make_unique<SinglePeriodicBandedSolver>(
-        mesh_.pnx(), mesh_.pny(), [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); },
-        true);
+PeriodicBandedSolver::Operator QuasiStokesProjection::schur_operator() const {
+  return [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); };
 }
 
-void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, bool single) {
-  if (single && !single_pc_) throw std::logic_error("QuasiStokesProjection: project_exact in single precision without its solver");
+void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt) {
   if (!exact_pc_) {
     out = u;
     std::vector<double> p(mesh_.pressure_nodes(), 0.0);
@@ -179,7 +173,7 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
   }
   divergence(u, b_);
   scale(b_, -rho / dt);
-  precondition(b_, z_, single);  // p = S⁻¹ b, mean-zero
+  precondition(b_, z_);  // p = S⁻¹ b, mean-zero
   add_pressure_gradient(u, z_, rho, dt, out);
 }
 

@@ -43,10 +43,13 @@ class QuasiStokesProjection {
   // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check
   // (B, one solve, Bᵀ: two stencil sweeps fewer than project()); with the Laplacian one, project()
   // from p = 0. out = P u (out may be u).
-  // single: S⁻¹ in single precision (build_single_precision_solver() first; the Schur
-  // preconditioner only), relative error ≈ 1e-7: for the products of coupling_solves = "single".
-  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, bool single = false);
-  void build_single_precision_solver();
+  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt);
+  // Its parts, for a caller with its own S⁻¹ (the coupling's single-precision products,
+  // coupling_products.hpp): whether S⁻¹ is the exact fast solve, S itself as an operator, and
+  // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
+  bool exact_schur_solve() const { return exact_pc_; }
+  PeriodicBandedSolver::Operator schur_operator() const;
+  void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
@@ -54,10 +57,8 @@ class QuasiStokesProjection {
 
  private:
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
-  // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
-  void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
-  // z = S⁻¹ r (or the Laplacian's), mean-zero; single: single_pc_ (project_exact's products).
-  void precondition(const std::vector<double>& r, std::vector<double>& z, bool single = false);
+  // z = S⁻¹ r (or the Laplacian's), mean-zero.
+  void precondition(const std::vector<double>& r, std::vector<double>& z);
 
   ChannelMesh mesh_;
   DivergenceStencil B_;            // B and Bᵀ (Bᵀ on the interior velocity nodes only)
@@ -65,7 +66,6 @@ class QuasiStokesProjection {
   std::vector<double> weights_;    // lumped weights of T_2h for the mean
   double total_weight_ = 0;        // their sum
   std::unique_ptr<PeriodicBandedSolver> pc_;
-  std::unique_ptr<SinglePeriodicBandedSolver> single_pc_;  // the Schur solve in single precision (or null)
   double tol_;
   bool exact_pc_ = false;
   double row_abs_norm_ = 0;  // ≈ ‖(Σ_n |B_qn|)_q‖₂, the scale of round-off in B u

@@ -87,7 +87,7 @@ void WaveLikeAdvection::gather_row(int nx, double inv_h, int j, const double* gl
   // compiler fused them for x86-64-v3 (read off its code), written out: four nodes at a time in
   // AVX2 registers and the wrapping first node and the remainder one at a time, the same
   // operations in both, so that every run keeps its bits. (Left to the compiler, the vectorised
-  // loop fused differently and every run's bits changed; measured 2026-11-26.)
+  // loop fused differently and every run's bits changed; measured.)
   auto node = [&](int i, int im) {
     const std::size_t a = o + i, b = o + im, cc = od + i, d = od + im;
     double s = std::fma(glj[i], -vlx[a] - vly[a], glj[im] * vlx[b]);

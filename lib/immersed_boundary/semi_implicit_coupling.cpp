@@ -12,7 +12,8 @@
 
 namespace rbc {
 
-SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance)
+SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance,
+                                                   const CouplingOptions& options)
     : flow_(flow),
       tolerance_(tolerance),
       mesh_(flow.mesh()),
@@ -23,7 +24,19 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
+      options_(options),
       work_(flow.mesh()) {}
+
+std::string describe(const CouplingOptions& o) {
+  return std::string("start ") + (o.start == CouplingOptions::Start::kConstant ? "constant" : "linear") + ", blocks " +
+         (o.turn_blocks ? "turned" : "fixed") + ", products " +
+         (o.product_precision == CouplingProducts::Precision::kDouble ? "double" : "single where possible");
+}
+
+void SemiImplicitMembraneStep::set_fluid_not_x1_invariant() {
+  x1_invariant_ = false;
+  products_.reset();  // chosen again for the constrained step 4
+}
 
 namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -36,17 +49,6 @@ Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
   return p;
 }
 }  // namespace
-
-void SemiImplicitMembraneStep::set_single_precision_solves(bool on) {
-  if (on) {
-    if (flow_.diffusion().constrained())
-      throw std::invalid_argument("coupling_solves = \"single\": the products' step-4 solve is the obstacle's constrained one, "
-                                  "which has no single-precision form (use \"double\")");
-    flow_.diffusion().build_single_precision_solver();
-    flow_.projection().build_single_precision_solver();
-  }
-  single_solves_ = on;
-}
 
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
@@ -66,7 +68,10 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   auto spread = [&](int c, double* f1, double* f2) {
     spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
   };
-  auto [f1, f2] = flow_.diffusion().zeroed_force_rhs();
+  if (!products_)
+    products_ = std::make_unique<CouplingProducts>(mesh_, flow_.diffusion(), flow_.projection(), flow_.params().fluid.density, dt_,
+                                                   options_.product_precision);
+  auto [f1, f2] = products_->force_rhs();
   if (!slab_cells_.empty()) {
     // Cells in x1 slabs (see implicit_correction): the even slabs' cells touch disjoint mesh
     // nodes, so their threads add into the same arrays; then the odd slabs'. Every node sums its
@@ -102,10 +107,10 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
   const auto t1 = std::chrono::steady_clock::now();
-  flow_.diffusion().force_response(response, single_solves_);
+  products_->response(response);
   cost_.product_solve += seconds_since(t1);
   const auto t2 = std::chrono::steady_clock::now();
-  flow_.projection().project_exact(response, work_, flow_.params().fluid.density, dt_, single_solves_);
+  products_->project(response, work_);
   cost_.product_project += seconds_since(t2);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
@@ -185,7 +190,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // grown about a hundredfold by one step (the starting residual is ≈ 100 times the tolerance
   // at 1e-4 and 1e-3, measured at 3e-6 s): a straight line through two solutions carries two
   // such errors, and at larger Δt the trend it follows is worth less than that. Measured
-  // (2026-11-26, Δt = 3e-6 s, 300 steps from the end of each cell_free_layer run): GMRES
+  //: GMRES
   // iterations per step 8.47 → 7.74 (50 cells, seed 1), 7.58 → 6.89 (seed 2), 10.95 → 10.00
   // (seed 3), 8.70 → 8.55, 8.47 → 8.15, 8.47 → 8.19 (100 cells, seeds 1–3), with 3–38 % fewer
   // block rebuilds. From rest in the developed profile, the cells still accelerating, the
@@ -193,7 +198,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // against 7.5 at 2e-6 s), so it stays the default (paper/method/04_semi_implicit_coupling.md).
   const bool warm = last_U_.size() == rhs.size() && last_rhs_.size() == rhs.size();
   Eigen::VectorXd x0;
-  if (warm && start_ == Start::kLinear && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
+  if (warm && options_.start == Start::kLinear && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
     x0 = 2.0 * last_U_ - before_last_U_ + precondition(rhs - 2.0 * last_rhs_ + before_last_rhs_);
   else if (warm)
     x0 = last_U_ + precondition(rhs - last_rhs_);
@@ -382,7 +387,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   t0 = clock::now();
   // One cell in an x1-invariant fluid: its own system is the whole system. Several, or a fluid
   // with obstacles (the block, from the obstacle-free mobility, is then only a preconditioner):
-  // the coupled solve. (Until 2026-11-24 one cell with obstacles took the block's solution as
+  // the coupled solve. (Before a fix, one cell with obstacles took the block's solution as
   // exact, and the step blew up within four steps.)
   last_iterations_ = 0;
   fresh_in_step_ = false;
@@ -451,7 +456,7 @@ void SemiImplicitMembraneStep::fit_turns(const std::vector<Cell>& cells) {
   // Each block's rotation onto its cell's nodes (the header). None unless turned blocks are asked
   // for and the blocks only precondition.
   turn_.clear();
-  if (!turn_blocks_ || !several_ || block_nodes_.size() != cells.size()) return;
+  if (!options_.turn_blocks || !several_ || block_nodes_.size() != cells.size()) return;
   turn_.resize(cells.size());
   for (std::size_t c = 0; c < cells.size(); ++c) turn_[c] = best_fit_rotation(block_nodes_[c], cells[c].nodes);
 }

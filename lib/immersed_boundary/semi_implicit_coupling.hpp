@@ -30,8 +30,8 @@
 // there are several cells (the interval shortens by itself when GMRES needs many iterations, as
 // at larger Δt), factored in single precision and stored in bfloat16 (GMRES corrects the rest).
 //
-// Turned blocks ([solver] coupling_blocks = "turned"; set_turn_blocks). A cell that has turned
-// by a rotation R since its block was built has, where the walls and the grid do not matter,
+// Turned blocks (CouplingOptions::turn_blocks). A cell that has turned by a rotation R since its
+// block was built has, where the walls and the grid do not matter,
 //
 //   K(R r) = R K(r) Rᵀ,  M̄(R r) ≈ R M̄(r) Rᵀ   ⇒   B(R r)⁻¹ ≈ R B(r)⁻¹ Rᵀ
 //
@@ -42,30 +42,21 @@
 //
 //   θ = atan2(Σ_i p_i × q_i, Σ_i p_i · q_i),   p_i = r⁰_i − r̄⁰,  q_i = r_i − r̄,
 //
-// fitted at every step. It takes out what the crowd's cells turning does to the blocks, so that
-// fewer steps exceed kRebuildAboveIterations and the blocks are rebuilt less often (100 cells in
-// cell_free_layer's developed crowd at 3e-6 s: 0.093 against 0.138 blocks a cell and step, 0.927
-// of the step on two threads; paper/method/04_semi_implicit_coupling.md).
+// fitted at every step. A crowd whose cells turn then needs its blocks rebuilt less often
+// (paper/method/04_semi_implicit_coupling.md gives the measured ratio).
 //
-// Single-precision solves ([solver] coupling_solves = "single"; set_single_precision_solves). A
-// product's two fluid solves, step 4's A⁻¹ (FFT in x1, tridiagonal in x2) and the projection's
-// S⁻¹, run in single precision (SinglePeriodicBandedSolver; double in and out, the stencils,
-// spreading and interpolation stay double). The product is then M K v to a relative error of a
-// few 1e-7 (FastSolvers.TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff: 4e-7 of step 4's
-// solution, 2e-7 of the projected velocity), far inside GMRES's tolerance of 1e-4, so the steps
-// are those of the double products to the solver's tolerance; the correction, a combination of
-// the products' responses, carries the same relative error. Half the bytes through the
-// transforms and substitutions: 0.918 of the 50 cells' step and 0.956 of the 100 cells' on two
-// threads (cell_free_layer's crowds; step 4's solve 307 → 241 and 286 → 221 µs a product). P u⁰ (the right-hand side) stays double. Not for a constrained step 4
-// (obstacles, disks) nor the Laplacian pressure preconditioner, which have no such form.
+// The products' fluid solves run in single precision where step 4 allows it (coupling_products.hpp).
 #include <algorithm>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/Dense>
 
 #include "fluid/channel_flow.hpp"
 #include "io/checkpoint.hpp"
+#include "immersed_boundary/coupling_products.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
 #include "immersed_boundary/step_mobility.hpp"
@@ -77,10 +68,31 @@ namespace rbc {
 // "Turned blocks" above): θ = atan2(Σ p × q, Σ p · q). Same number of nodes.
 Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to);
 
+// How the coupled system is solved: choices that change what a step costs, not the step (each
+// takes the same steps to GMRES's tolerance; tests/test_semi_implicit.cpp checks it). The defaults
+// are the measured winners (paper/method/04_semi_implicit_coupling.md); tests and the benchmark
+// set others. Not scene keys: a scene says what is computed, not how fast.
+struct CouplingOptions {
+  // Where GMRES starts (solve_coupled): the last step's solution (kConstant), or the last two
+  // steps' solutions carried on in a straight line (kLinear); each plus the blocks' response to
+  // the change of the right-hand side that the start does not predict.
+  enum class Start { kConstant, kLinear };
+  Start start = Start::kConstant;
+  // Apply each cell's block turned with the cell's rotation since it was built (see above).
+  bool turn_blocks = true;
+  // The products' fluid solves in single precision where step 4 allows it (coupling_products.hpp).
+  CouplingProducts::Precision product_precision = CouplingProducts::Precision::kSingleWherePossible;
+};
+
+// The options in words, e.g. "start constant, blocks turned, products single where possible"
+// (summary.json records it; --reuse compares it).
+std::string describe(const CouplingOptions& options);
+
 class SemiImplicitMembraneStep {
  public:
+  using Start = CouplingOptions::Start;
   // tolerance: relative residual of the cell-to-cell GMRES solve (several cells).
-  SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4);
+  SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4, const CouplingOptions& options = {});
   // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
   // Step 2's mover (the scene's membrane repulsion is set on it).
@@ -91,8 +103,9 @@ class SemiImplicitMembraneStep {
   int last_iterations() const { return last_iterations_; }
   // The fluid is no longer invariant under shifts in x1 (an obstacle's multiplier in step 4): the
   // tabulated mobility is then only a preconditioner, and even one cell goes through GMRES, whose
-  // products (spread, step 4, project, interpolate) are exact.
-  void set_fluid_not_x1_invariant() { x1_invariant_ = false; }  // GMRES iterations of the last step (0: one cell)
+  // products (spread, step 4, project, interpolate) are exact. Call it after the constraint is
+  // installed in step 4 (the products' solves are chosen then).
+  void set_fluid_not_x1_invariant();
   // Checkpoints: the projection's warm start, GMRES's starting point and the nodes the current
   // preconditioner blocks were built at (load rebuilds them from those nodes, so a resumed run
   // takes the same steps bit for bit).
@@ -126,15 +139,6 @@ class SemiImplicitMembraneStep {
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
   // For tests: the blocks rebuilt after a step with more than this many iterations instead.
   void set_rebuild_above_iterations(int iterations) { rebuild_above_ = iterations; }
-  // Where GMRES starts (solve_coupled): the last two steps' solutions carried on in a straight
-  // line (kLinear, the default) or the last one (kConstant), each plus the blocks' response to
-  // the change of the right-hand side that the start does not predict.
-  enum class Start { kLinear, kConstant };
-  void set_start(Start start) { start_ = start; }
-  // Apply each cell's block turned with the cell's rotation since it was built (see above).
-  void set_turn_blocks(bool on) { turn_blocks_ = on; }
-  // The products' step-4 and pressure solves in single precision (see above; no obstacle).
-  void set_single_precision_solves(bool on);
   // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
   void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
   // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
@@ -178,6 +182,8 @@ class SemiImplicitMembraneStep {
   };
   std::vector<Block> blocks_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
+  CouplingOptions options_;
+  std::unique_ptr<CouplingProducts> products_;  // the products' fluid solves (several cells or obstacles)
   VelocityField work_;                        // GMRES matrix-vector product: the velocity
   Eigen::VectorXd kv_;                        // and K v, the nodes' forces it spreads
   std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
@@ -197,16 +203,13 @@ class SemiImplicitMembraneStep {
   int fresh_blocks_after_ = kFreshBlocksAfter;
   int rebuild_above_ = kRebuildAboveIterations;
   bool x1_invariant_ = true;
-  Start start_ = Start::kLinear;
   bool several_ = false;  // more than one cell: blocks in single precision, GMRES
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
   static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
   std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
-  bool turn_blocks_ = false;
-  bool single_solves_ = false;  // the products' solves in single precision
-  std::vector<Eigen::Matrix2d> turn_;  // each block's rotation onto its cell's nodes (turn_blocks_; empty: none)
+  std::vector<Eigen::Matrix2d> turn_;  // each block's rotation onto its cell's nodes (options_.turn_blocks; empty: none)
   void fit_turns(const std::vector<Cell>& cells);
   void build_block(int c, const Points& r, double target_area, double kb_scale);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);

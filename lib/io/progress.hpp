@@ -3,7 +3,7 @@
 // time left. On a terminal it rewrites one line; otherwise (CI, logs) it prints a line at most
 // every 10 s. The rate is given twice: since the start (the estimate of the time left uses it)
 // and over about the last minute (kRecentSeconds), which shows a machine that slows down or
-// speeds up for minutes at a time (a shared or throttled machine; 2026-11-25: one run's steps
+// speeds up for minutes at a time (a shared or throttled machine;: one run's steps
 // took 15.5 ms in some minutes and 24.7 ms in others, which the mean since the start hid).
 #include <chrono>
 #include <deque>

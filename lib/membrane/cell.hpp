@@ -10,7 +10,7 @@ struct Cell {
   double target_area = 0;     // s_e = s* π R0², m²
   double prepared_area = 0;   // area of the prepared shape, m² (reference of the area drift)
   double prepared_perimeter = 0;
-  double kb_scale = 1;        // this cell's k_b over the model's (the study's stiffer cells, Sec. 4.2)
+  double kb_scale = 1;        // this cell's k_b over the model's (the study's stiffer cells, Sec. 3.1.2)
 };
 
 // The membrane model of one cell: the scene's, with the cell's own bending stiffness.

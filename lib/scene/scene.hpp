@@ -5,18 +5,16 @@
 //   [channel] length, height, mesh_size (m); reynolds (cell-free Re0) or body_force (N/m³);
 //             wall_velocity = [bottom, top] (m/s)
 //   [time]    dt, end (s); coupling ("explicit" | "semi-implicit"); advection_substeps (Q);
-//             projection ("study" | "incremental": the pressure's form, ChannelFlowParams)
+//             projection ("study" | "incremental": the pressure's form, ChannelFlowParams;
+//             "incremental" by default with obstacles, "study" otherwise)
 //   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance, coupling_tolerance
-//             (relative residual of the semi-implicit coupling's cell-to-cell system),
-//             coupling_start ("linear" | "constant": where that system's GMRES starts),
-//             coupling_blocks ("fixed" | "turned": its preconditioner blocks turned with the cells),
-//             coupling_solves ("double" | "single": the precision of its products' fluid solves)
+//             (relative residual of the semi-implicit coupling's cell-to-cell system)
 //   [output]  every (s between samples), vtk (bool), snapshots = [t, …] (s; membrane shapes),
 //             fields (bool: the velocity field at the snapshot times, field_<k>.dat)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
 //              area_penalty (E_s in the flow force, bool)            — optional, the study's values
 //   [[cell]]  center = [x, y] (m), swelling_ratio (s*), angle (rad, long axis from x1),
-//             kb_scale (this cell's k_b over [membrane] kb; the study's stiffer cells, Sec. 4.2)
+//             kb_scale (this cell's k_b over [membrane] kb; the study's stiffer cells, Sec. 3.1.2)
 //   [[obstacle]] x = [a, b], y = [c, d] (m), a fixed rectangle held by the fictitious-domain
 //             method (lib/fictitious_domain); its edges on mesh lines; wall = "bottom" | "top"
 //             (optional: checked that it stands on that wall). [solver] obstacle_tolerance
@@ -85,6 +83,7 @@ struct Scene {
   int advection_substeps = 1;
   // "study": the study's Lie scheme (the whole pressure in step 1); "incremental": step 4 carries
   // the last pressure and step 1 finds its increment (ChannelFlowParams::incremental_pressure).
+  // A scene file without the key gets "incremental" when it has obstacles.
   std::string projection = "study";
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;
@@ -93,22 +92,6 @@ struct Scene {
   // at 100 cells (Δt = 2e-6 s, 0.2 ms): 1e-3 and 1e-5 give Re within 3e-5 of each other, with 6
   // and 10 iterations per step.
   double coupling_tolerance = 1e-4;
-  // Where that GMRES starts (SemiImplicitMembraneStep::Start): "linear", the last two steps'
-  // solutions carried on in a straight line, or "constant", the last one. Either converges to the
-  // same tolerance; which needs fewer iterations depends on the flow and Δt (measured: linear for
-  // 100 cells starting in the developed flow at 1.2e-6–4e-6 s, constant in cell_free_layer's
-  // developed crowd at 3e-6 s; semi_implicit_coupling.cpp, solve_coupled).
-  std::string coupling_start = "linear";
-  // How that GMRES applies each cell's preconditioner block (SemiImplicitMembraneStep, "Turned
-  // blocks"): "fixed", as it was built, or "turned" with the cell's rotation since then. The
-  // system and its tolerance are the same either way; turned blocks need rebuilding less often
-  // where the cells turn (measured: cell_free_layer's crowd). Off by default, so that the
-  // other experiments keep their bits.
-  std::string coupling_blocks = "fixed";
-  // The precision of that GMRES's products' step-4 and pressure solves (SemiImplicitMembraneStep,
-  // "Single-precision solves"): "double", or "single" (relative error ≈ 1e-7 against GMRES's
-  // tolerance; no obstacles or disks, the Schur pressure solve). Off by default, as above.
-  std::string coupling_solves = "double";
   double output_every = 0;  // s; 0 means end/100 (at least dt)
   bool vtk = false;
   std::vector<double> snapshots;  // s, sorted

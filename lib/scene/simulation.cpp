@@ -10,8 +10,8 @@
 
 namespace rbc {
 
-Simulation::Simulation(const Scene& scene)
-    : scene_(scene), flow_(scene.flow_params()), model_(scene.membrane_model()) {
+Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
+    : scene_(scene), flow_(scene.flow_params()), model_(scene.membrane_model()), options_(options) {
   build_cells();
   // Obstacles: step 4 becomes the DLM/FD saddle-point problem (lib/fictitious_domain). Installed
   // after the semi-implicit coupling has tabulated its x1-invariant mobility, which then only
@@ -48,20 +48,7 @@ void Simulation::build_cells() {
     cells_.push_back(make_cell(shapes.at(key), c.swelling_ratio, c.center, c.angle, c.kb_scale));
   }
   if (scene.coupling == "semi-implicit") {
-    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance);
-    if (scene.coupling_start != "linear" && scene.coupling_start != "constant")
-      throw std::invalid_argument("[solver] coupling_start: \"" + scene.coupling_start + "\" (allowed: \"linear\", \"constant\")");
-    semi_implicit_step_->set_start(scene.coupling_start == "constant" ? SemiImplicitMembraneStep::Start::kConstant
-                                                                     : SemiImplicitMembraneStep::Start::kLinear);
-    if (scene.coupling_blocks != "fixed" && scene.coupling_blocks != "turned")
-      throw std::invalid_argument("[solver] coupling_blocks: \"" + scene.coupling_blocks + "\" (allowed: \"fixed\", \"turned\")");
-    semi_implicit_step_->set_turn_blocks(scene.coupling_blocks == "turned");
-    if (scene.coupling_solves != "double" && scene.coupling_solves != "single")
-      throw std::invalid_argument("[solver] coupling_solves: \"" + scene.coupling_solves + "\" (allowed: \"double\", \"single\")");
-    if (scene.coupling_solves == "single" && (!scene.obstacles.empty() || !scene.disks.empty() || scene.pressure_preconditioner != "schur"))
-      throw std::invalid_argument("[solver] coupling_solves = \"single\" needs a scene without obstacles or disks and "
-                                  "pressure_preconditioner = \"schur\" (their solves have no single-precision form; use \"double\")");
-    if (cells_.size() > 1) semi_implicit_step_->set_single_precision_solves(scene.coupling_solves == "single");
+    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance, options_);
   }
   else
     explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
@@ -72,45 +59,71 @@ void Simulation::build_cells() {
 
 ExplicitMembraneStep& Simulation::membrane_move() { return explicit_step_ ? *explicit_step_ : semi_implicit_step_->membrane_move(); }
 
+// One step of the study's Lie scheme (SPEC section 4; the study's steps 1-4, its eqs. (19)-(21)
+// for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The disks, where a scene
+// has them, are held by step 4 and moved after it; the semi-implicit coupling adds its correction
+// to step 4.
 void Simulation::step() {
-  // Disks: step 4 holds them where they will be, G* = Gⁿ + Δt Vⁿ (GPHJ's prediction). Holding
-  // them at Gⁿ instead lags the rigid field by one step, and the advected fluid inside a spinning,
-  // moving disk then pushes it sideways at ω V Δt (measured 2026-11-24: 3.3e-4 m/s at 2e-6 s in
-  // the study's wide channel, the drift halving with Δt).
-  if (disk_constraint_) {
-    std::vector<Disk> predicted = disks_;
-    for (Disk& d : predicted) d.center += scene_.dt * d.velocity;
-    disk_constraint_->set_disks(predicted);
-  }
-  last_projection_ = flow_.project();  // (1) quasi-Stokes projection → u^{n+1/3}, p^{n+1}
-  const VelocityField* f_B = nullptr;  // (2) membrane: move the nodes with u^{n+1/3}, spread F
-  if (explicit_step_) f_B = &explicit_step_->step(cells_, flow_.velocity(), scene_.dt);
-  if (semi_implicit_step_) f_B = &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
+  if (disk_constraint_) hold_disks_where_they_will_be();
+  quasi_stokes_step();                                   // (1), eq. (19): u^{n+1/3}, p^{n+1}
+  const VelocityField* f_B = membrane_step();            // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B
+  advection_step();                                      // (3), eq. (20): u^{n+2/3}
+  diffusion_step(f_B);                                   // (4), eq. (21): u^{n+1}
+  if (semi_implicit_step_) implicit_spring_correction(); //     semi-implicit: the spring force at r^{n+2}
+  if (disk_constraint_) move_disks();                    //     disks: G^{n+1}, θ^{n+1} from u^{n+1}
+}
+
+void Simulation::hold_disks_where_they_will_be() {
+  // Step 4 holds the disks where they will be, G* = Gⁿ + Δt Vⁿ (GPHJ's prediction). Holding them
+  // at Gⁿ lags the rigid field by one step, and the advected fluid inside a spinning, moving disk
+  // then pushes it sideways at ω V Δt (tests/test_rigid_disks.cpp).
+  std::vector<Disk> predicted = disks_;
+  for (Disk& d : predicted) d.center += scene_.dt * d.velocity;
+  disk_constraint_->set_disks(predicted);
+}
+
+void Simulation::quasi_stokes_step() { last_projection_ = flow_.project(); }
+
+const VelocityField* Simulation::membrane_step() {
+  // Move the nodes with u^{n+1/3} and spread their forces F(r^{n+1}), in either coupling.
+  if (cells_.empty()) return nullptr;
+  const VelocityField* f_B = explicit_step_ ? &explicit_step_->step(cells_, flow_.velocity(), scene_.dt)
+                                            : &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
   if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
     const RepulsionCount& c = membrane_move().last_repulsion();
     if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
   }
-  flow_.advect();                      // (3) wave-like advection → u^{n+2/3}
-  if (disk_constraint_) f_B = add_contact_forces(f_B);  // disks: + their contact forces over their area
-  flow_.diffuse(f_B);                  // (4) diffusion with f_p + f_B → u^{n+1}
-  if (semi_implicit_step_) {           //     semi-implicit: + response to −S Δt K U^{n+1}
-    try {
-      flow_.add_velocity(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
-    } catch (const std::runtime_error& e) {  // the coupled GMRES did not converge
-      std::ostringstream m;
-      m << e.what() << " at t = " << time() << " s (step " << steps() << "); lower [time] dt";
-      throw RunFailure(m.str());
-    }
+  return f_B;
+}
+
+void Simulation::advection_step() { flow_.advect(); }
+
+void Simulation::diffusion_step(const VelocityField* f_B) {
+  // With f_p + f_B, plus the disks' contact forces over their area (none without disks).
+  if (disk_constraint_) f_B = add_contact_forces(f_B);
+  flow_.diffuse(f_B);
+}
+
+void Simulation::implicit_spring_correction() {
+  // u^{n+1} += step 4's response to −S Δt K U^{n+1} (semi_implicit_coupling.hpp).
+  try {
+    flow_.add_velocity(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
+  } catch (const std::runtime_error& e) {  // the coupled GMRES did not converge
+    std::ostringstream m;
+    m << e.what() << " at t = " << time() << " s (step " << steps() << "); lower [time] dt";
+    throw RunFailure(m.str());
   }
-  if (disk_constraint_) {  //     disks: their motion in u^{n+1}; G^{n+1} = G^n + Δt (V^n + V^{n+1})/2, θ likewise
-    const std::vector<Eigen::Vector3d> q = disk_constraint_->rigid_motion(flow_.velocity());
-    for (std::size_t k = 0; k < disks_.size(); ++k) {
-      Disk& d = disks_[k];
-      d.center += 0.5 * scene_.dt * (d.velocity + q[k].head<2>());
-      d.angle += 0.5 * scene_.dt * (d.angular_velocity + q[k][2]);
-      d.velocity = q[k].head<2>();
-      d.angular_velocity = q[k][2];
-    }
+}
+
+void Simulation::move_disks() {
+  // Their rigid motion in u^{n+1}; G^{n+1} = Gⁿ + Δt (Vⁿ + V^{n+1})/2, θ likewise.
+  const std::vector<Eigen::Vector3d> q = disk_constraint_->rigid_motion(flow_.velocity());
+  for (std::size_t k = 0; k < disks_.size(); ++k) {
+    Disk& d = disks_[k];
+    d.center += 0.5 * scene_.dt * (d.velocity + q[k].head<2>());
+    d.angle += 0.5 * scene_.dt * (d.angular_velocity + q[k][2]);
+    d.velocity = q[k].head<2>();
+    d.angular_velocity = q[k][2];
   }
 }
 

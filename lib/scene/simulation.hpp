@@ -25,7 +25,7 @@ struct RunFailure : std::runtime_error {
 inline constexpr double kMaxMembraneStrain = 1.0;
 // Largest fluid speed a healthy run with cells may show, in units of the driving flow's own
 // scale (the cell-free peak speed, or the wall speed). An unstable membrane coupling can saturate
-// below the CFL and strain limits: measured 2026-11-23, the explicit coupling just above its
+// below the CFL and strain limits: measured: the explicit coupling just above its
 // limit ran for 0.1 ms with the fluid at 5.9-18 times the flow's peak speed and 5-25 % strain
 // (one cell, wide channel, 9e-8 s; 100 cells, 7.5e-8 s; one cell, narrow channel, 6.5e-8 s: an
 // episode of 40 us); calm runs of both couplings — 1 to 100 cells, Re0 = 0.01 to 50, Hct 34 %,
@@ -45,7 +45,9 @@ inline constexpr double kBurstSpeedRatio = 10.0;
 
 class Simulation {
  public:
-  explicit Simulation(const Scene& scene);
+  // options: how the semi-implicit coupling solves its system (its defaults are the measured
+  // winners; tests and the benchmark set others). They change the cost, not the step.
+  explicit Simulation(const Scene& scene, const CouplingOptions& options = {});
 
   // One step of the study's Lie scheme, tⁿ → tⁿ⁺¹.
   void step();
@@ -96,6 +98,7 @@ class Simulation {
   Scene scene_;
   ChannelFlow flow_;
   MembraneModel model_;
+  CouplingOptions options_;
   std::vector<Cell> cells_;
   // Only when the scene has cells: one of the two couplings (scene [time] coupling).
   std::unique_ptr<ExplicitMembraneStep> explicit_step_;
@@ -109,12 +112,20 @@ class Simulation {
   long contact_steps_ = 0;
   long repulsion_steps_ = 0;
   ExplicitMembraneStep& membrane_move();  // step 2's mover, of either coupling
+  // The parts of step(), in its order.
+  void hold_disks_where_they_will_be();
+  void quasi_stokes_step();
+  const VelocityField* membrane_step();  // f_B (null: no cells)
+  void advection_step();
+  void diffusion_step(const VelocityField* f_B);
+  void implicit_spring_correction();
+  void move_disks();
   ProjectionReport last_projection_;
-  double speed_excess_time_ = 0;
+  double speed_excess_time_ = 0;  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
   void check_disks(const std::string& when) const;  // check_health's part for the disks
   // Step 4's force density with the contact forces added (f_B itself when none acts).
   const VelocityField* add_contact_forces(const VelocityField* f_B);
-  void build_cells();  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
+  void build_cells();
 };
 
 }  // namespace rbc

@@ -1,0 +1,62 @@
+#include "immersed_boundary/coupling_products.hpp"
+
+#include <algorithm>
+
+namespace rbc {
+
+CouplingProducts::CouplingProducts(const ChannelMesh& mesh, ImplicitDiffusion& diffusion, QuasiStokesProjection& projection, double rho,
+                                   double dt, Precision precision)
+    : mesh_(mesh),
+      diffusion_(diffusion),
+      projection_(projection),
+      rho_(rho),
+      dt_(dt),
+      rhs1_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0),
+      rhs2_(rhs1_.size(), 0.0),
+      divergence_(mesh.pressure_nodes(), 0.0),
+      pressure_(mesh.pressure_nodes(), 0.0) {
+  if (precision == Precision::kSingleWherePossible && !diffusion.constrained() && projection.exact_schur_solve()) {
+    single_helmholtz_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.nx, mesh.ny - 1, diffusion.helmholtz_operator(), false);
+    single_schur_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.pnx(), mesh.pny(), projection.schur_operator(), true);
+  }
+}
+
+void CouplingProducts::response(VelocityField& out) {
+  const int nx = mesh_.nx, n = nx * (mesh_.ny - 1);
+  for (int k = 0; k < nx; ++k) out.u1[k] = out.u2[k] = out.u1[nx + n + k] = out.u2[nx + n + k] = 0.0;  // walls
+  // The plain solve writes the interior rows of out itself and clears the right-hand sides as
+  // it reads them; the constrained one works in place, so we copy and clear.
+  if (single_helmholtz_) {
+    single_helmholtz_->solve_pair_clearing(rhs1_.data(), rhs2_.data(), out.u1.data() + nx, out.u2.data() + nx);
+    return;
+  }
+  if (!diffusion_.constrained()) {
+    diffusion_.helmholtz().solve_pair_clearing(rhs1_.data(), rhs2_.data(), out.u1.data() + nx, out.u2.data() + nx);
+    return;
+  }
+  diffusion_.solve_pair(rhs1_.data(), rhs2_.data());
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) {
+    out.u1[nx + k] = rhs1_[k];
+    out.u2[nx + k] = rhs2_[k];
+    rhs1_[k] = rhs2_[k] = 0.0;
+  }
+}
+
+void CouplingProducts::project(const VelocityField& u, VelocityField& out) {
+  if (!single_schur_) {
+    projection_.project_exact(u, out, rho_, dt_);
+    return;
+  }
+  // p = S⁻¹ (−(ρ/Δt) B u), mean-zero, then out = u + (Δt/ρ) M⁻¹ Bᵀ p: project_exact's steps.
+  projection_.divergence(u, divergence_);
+  const double c = -rho_ / dt_;
+  const std::ptrdiff_t size = std::ptrdiff_t(divergence_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < size; ++k) divergence_[k] *= c;
+  single_schur_->solve(divergence_.data(), pressure_.data());
+  projection_.remove_mean(pressure_);
+  projection_.add_pressure_gradient(u, pressure_, rho_, dt_, out);
+}
+
+}  // namespace rbc
