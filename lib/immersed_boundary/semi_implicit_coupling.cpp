@@ -7,7 +7,6 @@
 
 #include <omp.h>
 
-#include "immersed_boundary/bf16_lu_solve.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
 
 namespace rbc {
@@ -24,6 +23,7 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
+      preconditioner_(mobility_, model, flow.params().dt, options.turn_blocks),
       options_(options),
       work_(flow.mesh()) {}
 
@@ -63,7 +63,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
-    kv_.segment(offset_[c], n) = blocks_[c].K.apply(v.segment(offset_[c], n));
+    kv_.segment(offset_[c], n) = stiffness_[c].apply(v.segment(offset_[c], n));
   }
   auto spread = [&](int c, double* f1, double* f2) {
     spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
@@ -126,51 +126,6 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   return out;
 }
 
-Eigen::VectorXd SemiImplicitMembraneStep::precondition(const Eigen::VectorXd& v) {
-  const auto t0 = std::chrono::steady_clock::now();
-  Eigen::VectorXd out(v.size());
-#pragma omp parallel for schedule(static)
-  for (int c = 0; c < int(blocks_.size()); ++c) {
-    const Eigen::Index n = offset_[c + 1] - offset_[c];
-    if (several_)
-    {
-      // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (bf16_lu_solve.hpp).
-      // Turned blocks: x = R B⁻¹ Rᵀ v, node by node (see the header).
-      const Block& b = blocks_[c];
-      const int m = int(n);
-      const double* in = v.data() + offset_[c];
-      thread_local std::vector<double> turned;
-      const bool turn = !turn_.empty();
-      if (turn) {
-        const Eigen::Matrix2d& R = turn_[c];
-        turned.resize(m);
-        for (int i = 0; i < m; i += 2) {
-          turned[i] = R(0, 0) * in[i] + R(1, 0) * in[i + 1];
-          turned[i + 1] = R(0, 1) * in[i] + R(1, 1) * in[i + 1];
-        }
-        in = turned.data();
-      }
-      thread_local std::vector<float> x;
-      x.resize(m);
-      for (int i = 0; i < m; ++i) x[i] = float(in[b.permutation[i]]);
-      detail::lu_solve_bf16(b.lu_bf16.data(), b.inverse_diagonal.data(), m, x.data());
-      if (turn) {
-        const Eigen::Matrix2d& R = turn_[c];
-        for (int i = 0; i < m; i += 2) {
-          out[offset_[c] + i] = R(0, 0) * x[i] + R(0, 1) * x[i + 1];
-          out[offset_[c] + i + 1] = R(1, 0) * x[i] + R(1, 1) * x[i + 1];
-        }
-      } else {
-        for (int i = 0; i < m; ++i) out[offset_[c] + i] = x[i];
-      }
-    }
-    else
-      out.segment(offset_[c], n) = blocks_[c].lu.solve(v.segment(offset_[c], n));
-  }
-  cost_.preconditioner += seconds_since(t0);
-  return out;
-}
-
 Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs) {
   // GMRES on (I + Δt M K) B⁻¹ y = b, U = B⁻¹ y, with B = blockdiag(I + Δt M_cc K_c): each cell's
   // own system (exact, from StepMobility), so only the cell-to-cell coupling is left to iterate.
@@ -199,9 +154,9 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   const bool warm = last_U_.size() == rhs.size() && last_rhs_.size() == rhs.size();
   Eigen::VectorXd x0;
   if (warm && options_.start == Start::kLinear && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
-    x0 = 2.0 * last_U_ - before_last_U_ + precondition(rhs - 2.0 * last_rhs_ + before_last_rhs_);
+    x0 = 2.0 * last_U_ - before_last_U_ + preconditioner_.apply(rhs - 2.0 * last_rhs_ + before_last_rhs_, offset_);
   else if (warm)
-    x0 = last_U_ + precondition(rhs - last_rhs_);
+    x0 = last_U_ + preconditioner_.apply(rhs - last_rhs_, offset_);
   const double target = tolerance_ * rhs.norm();
   last_iterations_ = 0;
   bool converged = false;
@@ -210,11 +165,8 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
     // The blocks have gone too stale for this Δt (the cells moved further than they were built
     // ahead for): rebuild them at the nodes of this step and go on from where GMRES got to.
     const auto t0 = std::chrono::steady_clock::now();
-    rebuild_blocks(cells, false);
-    fit_turns(cells);
-    refresh_steps_ = std::max(1, refresh_steps_ / 2);
+    preconditioner_.rebuild_fresh(cells, offset_);
     fresh_in_step_ = true;
-    ++cost_.fresh_rebuilds;
     const double seconds = seconds_since(t0);  // counted as blocks, not as the coupled solve
     cost_.blocks += seconds;
     cost_.coupled -= seconds;
@@ -252,7 +204,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::gmres(const std::vector<Cell>& cells, 
   g[0] = bnorm;
   int k = 0;
   for (; k < max_it; ++k) {
-    Z.col(k) = precondition(V.col(k));
+    Z.col(k) = preconditioner_.apply(V.col(k), offset_);
     Eigen::VectorXd w = apply_full(cells, Z.col(k));
     for (int i = 0; i <= k; ++i) {  // modified Gram–Schmidt
       H(i, k) = V.col(i).dot(w);
@@ -285,26 +237,6 @@ Eigen::VectorXd SemiImplicitMembraneStep::gmres(const std::vector<Cell>& cells, 
   combination_.conservativeResize(combination_.size() + k);
   combination_.tail(k) = y;
   return U;
-}
-
-void SemiImplicitMembraneStep::rebuild_blocks(const std::vector<Cell>& cells, bool ahead) {
-  // Several cells: each block built where the cell's nodes will be halfway to the next rebuild
-  // (moving on with the last step's velocities), then used for refresh_steps_ steps.
-  const int ncells = int(cells.size());
-  mobility_.prepare_phase_average(phase_average_extent(model_));
-  const bool move = ahead && kBuildAhead && last_U_.size() == offset_[ncells];
-  block_nodes_.resize(ncells);
-#pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < ncells; ++c) {
-    Points at = cells[c].nodes;
-    if (move)
-      for (std::size_t i = 0; i < at.size(); ++i)
-        at[i] += 0.5 * refresh_steps_ * dt_ * Eigen::Vector2d(last_U_[offset_[c] + 2 * i], last_U_[offset_[c] + 2 * i + 1]);
-    build_block(c, at, cells[c].target_area, cells[c].kb_scale);
-    block_nodes_[c] = at;
-  }
-  cost_.block_builds += ncells;
-  steps_since_rebuild_ = 1;
 }
 
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
@@ -361,28 +293,14 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   }
   cost_.predictor += seconds_since(t0);
   t0 = clock::now();
-  // With several cells the blocks only precondition GMRES (the matrix-vector product is exact),
-  // so they are rebuilt every refresh_steps_ steps: kBlockRefreshSteps, halved after a step that
-  // needed more than kRebuildAboveIterations iterations or fresh blocks (rebuilt at the next step),
-  // and grown back by one at each rebuild that was due. One cell's block is its whole system,
-  // built every step.
+  // The cells' stiffness at r^{n+1} (the system's K), then the preconditioner's blocks for this
+  // step (coupling_preconditioner.hpp: one cell's is its whole system).
   several_ = ncells > 1 || !x1_invariant_;
-  blocks_.resize(ncells);
+  stiffness_.resize(ncells);
 #pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < ncells; ++c)  // at r^{n+1}: the system's K
-    blocks_[c].K = membrane_stiffness(model_of(model_, cells[c].kb_scale), cells[c].nodes, cells[c].target_area);
-  if (!several_) {
-    block_nodes_.clear();
-    build_block(0, cells[0].nodes, cells[0].target_area, cells[0].kb_scale);
-    ++cost_.block_builds;
-  } else if (int(block_nodes_.size()) != ncells || rebuild_now_ || steps_since_rebuild_ >= refresh_steps_) {
-    if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(max_refresh_steps_, refresh_steps_ + 1);
-    rebuild_now_ = false;
-    rebuild_blocks(cells, true);
-  } else {
-    ++steps_since_rebuild_;
-  }
-  fit_turns(cells);
+  for (int c = 0; c < ncells; ++c)
+    stiffness_[c] = membrane_stiffness(model_of(model_, cells[c].kb_scale), cells[c].nodes, cells[c].target_area);
+  preconditioner_.prepare(cells, several_, last_U_, offset_);
   cost_.blocks += seconds_since(t0);
   t0 = clock::now();
   // One cell in an x1-invariant fluid: its own system is the whole system. Several, or a fluid
@@ -391,13 +309,8 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // exact, and the step blew up within four steps.)
   last_iterations_ = 0;
   fresh_in_step_ = false;
-  const Eigen::VectorXd U = several_ ? solve_coupled(cells, rhs) : precondition(rhs);
-  // A step that needed many iterations: the blocks go stale faster than the interval assumes (a
-  // larger Δt, faster cells), so they are rebuilt at the next step and more often from then on.
-  if (several_ && !fresh_in_step_ && last_iterations_ > rebuild_above_) {
-    refresh_steps_ = std::max(1, refresh_steps_ / 2);
-    rebuild_now_ = true;
-  }
+  const Eigen::VectorXd U = several_ ? solve_coupled(cells, rhs) : preconditioner_.apply(rhs, offset_);
+  preconditioner_.after_solve(last_iterations_, fresh_in_step_);
   before_last_U_ = last_U_;
   last_U_ = U;
   before_last_rhs_ = last_rhs_;
@@ -411,7 +324,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     VelocityField& force = work_;
     std::fill(force.u1.begin(), force.u1.end(), 0.0);
     std::fill(force.u2.begin(), force.u2.end(), 0.0);
-    const Eigen::VectorXd f = -dt_ * blocks_[0].K.apply(U);
+    const Eigen::VectorXd f = -dt_ * stiffness_[0].apply(U);
     spread_forces(mesh_, move_.stencils()[0], as_points(f, 0, int(U.size() / 2)), force);
     flow_.diffusion().add_force_response(correction_, force);
   } else {  // −Δt Σ_p combination_p A⁻¹ S K z_p: the products' responses, added in order
@@ -428,63 +341,10 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     }
   }
   cost_.correction += seconds_since(t0);
+  cost_.preconditioner = preconditioner_.apply_seconds();
+  cost_.block_builds = preconditioner_.block_builds();
+  cost_.fresh_rebuilds = preconditioner_.fresh_rebuilds();
   return correction_;
-}
-
-Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to) {
-  if (from.size() != to.size() || to.empty()) throw std::invalid_argument("best_fit_rotation: node counts differ");
-  Eigen::Vector2d a = Eigen::Vector2d::Zero(), b = Eigen::Vector2d::Zero();
-  for (std::size_t i = 0; i < to.size(); ++i) {
-    a += from[i];
-    b += to[i];
-  }
-  a /= double(to.size());
-  b /= double(to.size());
-  double dot = 0, cross = 0;
-  for (std::size_t i = 0; i < to.size(); ++i) {
-    const Eigen::Vector2d p = from[i] - a, q = to[i] - b;
-    dot += p.dot(q);
-    cross += p.x() * q.y() - p.y() * q.x();
-  }
-  const double theta = std::atan2(cross, dot);
-  Eigen::Matrix2d R;
-  R << std::cos(theta), -std::sin(theta), std::sin(theta), std::cos(theta);
-  return R;
-}
-
-void SemiImplicitMembraneStep::fit_turns(const std::vector<Cell>& cells) {
-  // Each block's rotation onto its cell's nodes (the header). None unless turned blocks are asked
-  // for and the blocks only precondition.
-  turn_.clear();
-  if (!options_.turn_blocks || !several_ || block_nodes_.size() != cells.size()) return;
-  turn_.resize(cells.size());
-  for (std::size_t c = 0; c < cells.size(); ++c) turn_[c] = best_fit_rotation(block_nodes_[c], cells[c].nodes);
-}
-
-void SemiImplicitMembraneStep::build_block(int c, const Points& r, double target_area, double kb_scale) {
-  // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r); with
-  // several cells M̄_cc, M averaged over the cell's phase on the grid along x1 (step_mobility.hpp).
-  const MembraneStiffness K = membrane_stiffness(model_of(model_, kb_scale), r, target_area);
-  Eigen::MatrixXd M;
-  if (several_)
-    mobility_.phase_averaged_matrix(r, M);  // a preconditioner that a cell carried along x1 keeps
-  else
-    mobility_.matrix(r, M);
-  Eigen::MatrixXd B = dt_ * K.right_multiply(M);
-  B.diagonal().array() += 1.0;
-  if (several_)
-  {
-    const Eigen::PartialPivLU<Eigen::MatrixXf> lu(B.cast<float>());
-    Block& b = blocks_[c];
-    detail::pack_lu_bf16(lu.matrixLU().data(), int(B.rows()), b.lu_bf16);
-    b.inverse_diagonal.resize(B.rows());
-    for (Eigen::Index i = 0; i < B.rows(); ++i) b.inverse_diagonal[i] = 1.0f / lu.matrixLU()(i, i);
-    // P B = L U with P = lu.permutationP(): row i of P B is row p⁻¹(i) of B.
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse = lu.permutationP().inverse();
-    b.permutation.assign(inverse.indices().data(), inverse.indices().data() + B.rows());
-  }
-  else
-    blocks_[c].lu.compute(B);
 }
 
 void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
@@ -493,12 +353,9 @@ void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {
   w.put(before_last_U_);
   w.put(last_rhs_);
   w.put(before_last_rhs_);
-  w.put(std::int64_t(steps_since_rebuild_));
-  w.put(std::int64_t(refresh_steps_));
-  w.put(std::int64_t(rebuild_now_));
+  preconditioner_.save_schedule(w);
   w.put(std::int64_t(last_iterations_));
-  w.put(std::int64_t(block_nodes_.size()));
-  for (const Points& r : block_nodes_) w.put(r);
+  preconditioner_.save_blocks(w);
 }
 
 void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>& cells) {
@@ -512,26 +369,10 @@ void SemiImplicitMembraneStep::load(CheckpointReader& r, const std::vector<Cell>
   for (const Eigen::VectorXd* v : {&last_U_, &before_last_U_, &last_rhs_, &before_last_rhs_})
     if (v->size() != 0 && std::size_t(v->size()) != unknowns)
       throw CheckpointError(r.path() + ": the node velocities do not match the cells of this scene");
-  steps_since_rebuild_ = int(r.get_int());
-  refresh_steps_ = int(r.get_int());
-  if (refresh_steps_ < 1 || refresh_steps_ > max_refresh_steps_)
-    throw CheckpointError(r.path() + ": preconditioner refresh interval " + std::to_string(refresh_steps_) + " out of range [1, " +
-                          std::to_string(max_refresh_steps_) + "]");
-  rebuild_now_ = r.get_int() != 0;
+  preconditioner_.load_schedule(r);
   last_iterations_ = int(r.get_int());
-  const std::int64_t nblocks = r.get_int();
-  if (nblocks != 0 && nblocks != std::int64_t(cells.size()))
-    throw CheckpointError(r.path() + ": preconditioner blocks for " + std::to_string(nblocks) + " cells, the scene has " +
-                          std::to_string(cells.size()));
-  block_nodes_.resize(std::size_t(nblocks));
-  for (std::size_t c = 0; c < block_nodes_.size(); ++c)
-    block_nodes_[c] = r.get_points(cells[c].nodes.size(), "the nodes of a preconditioner block");
-  // The blocks as the uninterrupted run has them (built from the same nodes the same way).
   several_ = cells.size() > 1 || !x1_invariant_;
-  if (several_ && !block_nodes_.empty()) mobility_.prepare_phase_average(phase_average_extent(model_));
-  blocks_.resize(block_nodes_.size());
-#pragma omp parallel for schedule(dynamic)
-  for (int c = 0; c < int(block_nodes_.size()); ++c) build_block(c, block_nodes_[c], cells[c].target_area, cells[c].kb_scale);
+  preconditioner_.load_blocks(r, cells, several_);
 }
 
 }  // namespace rbc

@@ -56,6 +56,7 @@
 
 #include "fluid/channel_flow.hpp"
 #include "io/checkpoint.hpp"
+#include "immersed_boundary/coupling_preconditioner.hpp"
 #include "immersed_boundary/coupling_products.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
@@ -63,10 +64,6 @@
 #include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
-
-// The rotation R that best maps the nodes `from` onto `to` about their centroids (least squares;
-// "Turned blocks" above): θ = atan2(Σ p × q, Σ p · q). Same number of nodes.
-Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to);
 
 // How the coupled system is solved: choices that change what a step costs, not the step (each
 // takes the same steps to GMRES's tolerance; tests/test_semi_implicit.cpp checks it). The defaults
@@ -124,39 +121,19 @@ class SemiImplicitMembraneStep {
   };
   const Cost& cost() const { return cost_; }
 
-  // GMRES: at most kFreshBlocksAfter iterations with the blocks as they are; if that does not
-  // converge, the blocks are rebuilt at the nodes of the step and GMRES goes on from its last
-  // iterate for at most kCouplingMaxIterations more (then the run stops). A step that needed more
-  // than kRebuildAboveIterations has the blocks rebuilt at the next step and the interval halved.
-  // Neither triggers at Δt = 2e-6 s in the benchmark's 100-cell flow (at most 11 iterations a
-  // step, at its first steps); they keep larger steps going, whose blocks go stale sooner (100
-  // cells in the developed flow with only the fixed interval: GMRES did not converge in 60
-  // iterations at step 7 with Δt = 4e-6 s, at step 3 with 6e-6 s).
+  // GMRES: at most kFreshBlocksAfter iterations with the preconditioner's blocks as they are; if
+  // that does not converge, the blocks are rebuilt at the nodes of the step and GMRES goes on from
+  // its last iterate for at most kCouplingMaxIterations more (then the run stops). The blocks'
+  // rebuild rule is the preconditioner's (coupling_preconditioner.hpp).
   static constexpr int kCouplingMaxIterations = 60;
   static constexpr int kFreshBlocksAfter = 20;
-  static constexpr int kRebuildAboveIterations = 12;
+  static constexpr int kRebuildAboveIterations = CouplingPreconditioner::kRebuildAboveIterations;
+  static constexpr int kBlockRefreshSteps = CouplingPreconditioner::kBlockRefreshSteps;
   // For tests: fresh blocks after this many iterations instead (0: at every step).
   void set_fresh_blocks_after(int iterations) { fresh_blocks_after_ = iterations; }
-  // For tests: the blocks rebuilt after a step with more than this many iterations instead.
-  void set_rebuild_above_iterations(int iterations) { rebuild_above_ = iterations; }
-  // For measurements: the blocks' rebuild interval (steps, at most; default kBlockRefreshSteps).
-  void set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
-  // Several cells: preconditioner blocks rebuilt every 30 steps at most (see refresh_steps_).
-  // What made blocks of the exact M go stale within a few steps was the grid phase: a block of M
-  // built 0.27 h upstream of where the cell is gave ‖B_old⁻¹ B_new − I‖ ≈ 2.8 (rms per unknown),
-  // the same block with the old K and the new M 4e-4 (100 cells, wide grid, 2e-6 s: iterations
-  // from 3 to 7-8 within 10 steps of a rebuild). The blocks are therefore built from M̄, M
-  // averaged over the cell's phase along x1 (step_mobility.hpp), which a cell carried by the
-  // flow keeps; what still ages them is the cells deforming, turning and drifting across.
-  // Measured, 100 cells in the developed flow, 300 steps, products per step for a rebuild every
-  // 5 / 10 / 15 / 20 / 30 / 40 steps: 3.32 / 3.35 / 3.39 / 3.42 / 3.71 / 3.94 at 1.2e-6 s and
-  // 4.04 / 4.20 / 4.33 / 4.53 / 4.77 (to 30) at 2e-6 s, against 4.1 at 1.2e-6 s and 5.8 at
-  // 2e-6 s with blocks of M every 10 steps. With a build at ≈ 0.27 ms and a product with its
-  // preconditioner sweep at ≈ 1.1 ms (2 threads), 30 steps cost least (4.9 ms a step against 5.1
-  // for 20 and 5.0 for 40; paper/method/04_semi_implicit_coupling.md). Blocks are still built
-  // where the nodes will be halfway to the next rebuild (kBuildAhead; without it 3.64 against
-  // 3.42 products at 1.2e-6 s, 5.36 against 4.53 at 2e-6 s, both with a rebuild every 20 steps).
-  static constexpr int kBlockRefreshSteps = 30;
+  // For tests and measurements: the preconditioner's rebuild threshold and longest interval.
+  void set_rebuild_above_iterations(int iterations) { preconditioner_.set_rebuild_above_iterations(iterations); }
+  void set_block_refresh_steps(int steps) { preconditioner_.set_block_refresh_steps(steps); }
 
  private:
   ChannelFlow& flow_;
@@ -169,18 +146,9 @@ class SemiImplicitMembraneStep {
   ExplicitMembraneStep move_;
   StepMobility mobility_;
   VelocityField correction_;
-  // The coupled system of the current step.
-  struct Block {
-    MembraneStiffness K;                  // the cell's stiffness
-    Eigen::PartialPivLU<Eigen::MatrixXd> lu;         // of I + Δt M_cc K_c: one cell (its whole system)
-    // Several cells (a preconditioner): the same factored in single precision, P B = L U, with
-    // L and U in bfloat16 in the order the sweep reads them (bf16_lu_solve.hpp), 1/U_ii in float
-    // and P as indices.
-    std::vector<std::uint16_t> lu_bf16;
-    std::vector<float> inverse_diagonal;
-    std::vector<int> permutation;  // row i of P B is row permutation[i] of B
-  };
-  std::vector<Block> blocks_;
+  // The coupled system of the current step: each cell's stiffness K_c, and its preconditioner.
+  std::vector<MembraneStiffness> stiffness_;
+  CouplingPreconditioner preconditioner_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
   CouplingOptions options_;
   std::unique_ptr<CouplingProducts> products_;  // the products' fluid solves (several cells or obstacles)
@@ -195,29 +163,17 @@ class SemiImplicitMembraneStep {
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
   int last_iterations_ = 0;
-  int steps_since_rebuild_ = 0;
-  int max_refresh_steps_ = kBlockRefreshSteps;
-  int refresh_steps_ = kBlockRefreshSteps;  // the blocks' current rebuild interval (see implicit_correction)
-  bool rebuild_now_ = false;                // rebuild at the next step
   bool fresh_in_step_ = false;              // this step's GMRES rebuilt the blocks at its own nodes
   int fresh_blocks_after_ = kFreshBlocksAfter;
-  int rebuild_above_ = kRebuildAboveIterations;
   bool x1_invariant_ = true;
-  bool several_ = false;  // more than one cell: blocks in single precision, GMRES
+  bool several_ = false;  // more than one cell (or an uneven fluid): GMRES, its blocks only precondition
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
-  static constexpr bool kBuildAhead = true;  // see kBlockRefreshSteps
-  std::vector<Points> block_nodes_;  // the nodes the blocks were last built at (ahead of the cells)
-  std::vector<Eigen::Matrix2d> turn_;  // each block's rotation onto its cell's nodes (options_.turn_blocks; empty: none)
-  void fit_turns(const std::vector<Cell>& cells);
-  void build_block(int c, const Points& r, double target_area, double kb_scale);
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
-  Eigen::VectorXd precondition(const Eigen::VectorXd& v);
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);
   Eigen::VectorXd gmres(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0, bool warm,
                         int max_it, double target, bool& converged);
-  void rebuild_blocks(const std::vector<Cell>& cells, bool ahead);
 };
 
 }  // namespace rbc
