@@ -239,10 +239,30 @@ Eigen::VectorXd SemiImplicitMembraneStep::gmres(const std::vector<Cell>& cells, 
   return U;
 }
 
+// After step 4 with F^{n+1}: predict the nodes' velocities U⁰ = J P u⁰, solve the coupled system
+// (I + Δt M K) U = U⁰, and return step 4's response to −Δt K U (the header's equations).
 const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
   using clock = std::chrono::steady_clock;
-  auto t0 = clock::now();
   ++cost_.steps;
+  auto t0 = clock::now();
+  const Eigen::VectorXd rhs = predict(cells, u);
+  cost_.predictor += seconds_since(t0);
+  t0 = clock::now();
+  prepare_system(cells);
+  cost_.blocks += seconds_since(t0);
+  t0 = clock::now();
+  const Eigen::VectorXd U = solve_system(cells, rhs);
+  cost_.coupled += seconds_since(t0);
+  t0 = clock::now();
+  correct(U);
+  cost_.correction += seconds_since(t0);
+  cost_.preconditioner = preconditioner_.apply_seconds();
+  cost_.block_builds = preconditioner_.block_builds();
+  cost_.fresh_rebuilds = preconditioner_.fresh_rebuilds();
+  return correction_;
+}
+
+Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells, const VelocityField& u) {
   products_in_step_ = 0;
   const int ncells = int(cells.size());
   offset_.assign(ncells + 1, 0);
@@ -251,7 +271,7 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   // nodes, unknowns (x_1, y_1, x_2, …).
   // (Several cells: the projection as the products make it, without CG's residual checks; with
   // the exact Schur preconditioner project() takes that one iteration too, and one-cell runs keep
-  // project(), bit for bit as before.)
+  // project().)
   if (ncells > 1) {
     flow_.projection().project_exact(u, projected_, flow_.params().fluid.density, dt_);
   } else {
@@ -268,45 +288,52 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
     interpolate_velocity(mesh_, projected_, stencils[c], U0);
     rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
   }
+  assign_spreading_slabs(cells);
+  return rhs;
+}
+
+void SemiImplicitMembraneStep::assign_spreading_slabs(const std::vector<Cell>& cells) {
   // Slabs for the products' spreading: the channel cut into kSpreadSlabs equal slabs along x1,
   // each cell in the slab of its mean x1. Used when no cell reaches further than half a slab
   // from its mean (its stencils and a mesh cell of margin included), so that slabs two apart
   // never touch the same nodes; otherwise (narrow channels) the per-thread arrays.
+  const int ncells = int(cells.size());
   slab_cells_.clear();
-  if (ncells > 1) {
-    const double slab = mesh_.length / kSpreadSlabs;
-    double reach = 0;
-    std::vector<double> mean(ncells);
+  if (ncells < 2) return;
+  const double slab = mesh_.length / kSpreadSlabs;
+  double reach = 0;
+  std::vector<double> mean(ncells);
+  for (int c = 0; c < ncells; ++c) {
+    double sum = 0;
+    for (const auto& r : cells[c].nodes) sum += r.x();
+    mean[c] = sum / double(cells[c].nodes.size());
+    for (const auto& r : cells[c].nodes) reach = std::max(reach, std::abs(r.x() - mean[c]));
+  }
+  if (2 * (reach + 3 * mesh_.h) < slab) {
+    slab_cells_.resize(kSpreadSlabs);
     for (int c = 0; c < ncells; ++c) {
-      double sum = 0;
-      for (const auto& r : cells[c].nodes) sum += r.x();
-      mean[c] = sum / double(cells[c].nodes.size());
-      for (const auto& r : cells[c].nodes) reach = std::max(reach, std::abs(r.x() - mean[c]));
-    }
-    if (2 * (reach + 3 * mesh_.h) < slab) {
-      slab_cells_.resize(kSpreadSlabs);
-      for (int c = 0; c < ncells; ++c) {
-        const double x = mean[c] - mesh_.length * std::floor(mean[c] / mesh_.length);
-        slab_cells_[std::min(kSpreadSlabs - 1, int(x / slab))].push_back(c);
-      }
+      const double x = mean[c] - mesh_.length * std::floor(mean[c] / mesh_.length);
+      slab_cells_[std::min(kSpreadSlabs - 1, int(x / slab))].push_back(c);
     }
   }
-  cost_.predictor += seconds_since(t0);
-  t0 = clock::now();
+}
+
+void SemiImplicitMembraneStep::prepare_system(const std::vector<Cell>& cells) {
   // The cells' stiffness at r^{n+1} (the system's K), then the preconditioner's blocks for this
   // step (coupling_preconditioner.hpp: one cell's is its whole system).
+  const int ncells = int(cells.size());
   several_ = ncells > 1 || !x1_invariant_;
   stiffness_.resize(ncells);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c)
     stiffness_[c] = membrane_stiffness(model_of(model_, cells[c].kb_scale), cells[c].nodes, cells[c].target_area);
   preconditioner_.prepare(cells, several_, last_U_, offset_);
-  cost_.blocks += seconds_since(t0);
-  t0 = clock::now();
+}
+
+Eigen::VectorXd SemiImplicitMembraneStep::solve_system(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs) {
   // One cell in an x1-invariant fluid: its own system is the whole system. Several, or a fluid
-  // with obstacles (the block, from the obstacle-free mobility, is then only a preconditioner):
-  // the coupled solve. (Before a fix, one cell with obstacles took the block's solution as
-  // exact, and the step blew up within four steps.)
+  // with obstacles or disks (the block, from the unobstructed mobility, is then only a
+  // preconditioner): the coupled solve by GMRES.
   last_iterations_ = 0;
   fresh_in_step_ = false;
   const Eigen::VectorXd U = several_ ? solve_coupled(cells, rhs) : preconditioner_.apply(rhs, offset_);
@@ -315,8 +342,10 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
   last_U_ = U;
   before_last_rhs_ = last_rhs_;
   last_rhs_ = rhs;
-  cost_.coupled += seconds_since(t0);
-  t0 = clock::now();
+  return U;
+}
+
+void SemiImplicitMembraneStep::correct(const Eigen::VectorXd& U) {
   // Step 4's response to ΔF = −Δt K U, the change of the spring force over the coming step.
   std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
   std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
@@ -340,11 +369,6 @@ const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::ve
       correction_.u2[k] = -dt_ * b;
     }
   }
-  cost_.correction += seconds_since(t0);
-  cost_.preconditioner = preconditioner_.apply_seconds();
-  cost_.block_builds = preconditioner_.block_builds();
-  cost_.fresh_rebuilds = preconditioner_.fresh_rebuilds();
-  return correction_;
 }
 
 void SemiImplicitMembraneStep::save(CheckpointWriter& w) const {

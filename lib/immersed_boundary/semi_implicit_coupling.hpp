@@ -170,6 +170,12 @@ class SemiImplicitMembraneStep {
   Cost cost_;
   // GMRES's start (see solve_coupled): the node velocities U and right-hand sides U⁰ of the last two steps.
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
+  // implicit_correction's phases, in order.
+  Eigen::VectorXd predict(const std::vector<Cell>& cells, const VelocityField& u);  // U⁰ = J P u⁰
+  void assign_spreading_slabs(const std::vector<Cell>& cells);
+  void prepare_system(const std::vector<Cell>& cells);  // K_c and the preconditioner's blocks
+  Eigen::VectorXd solve_system(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs);  // U
+  void correct(const Eigen::VectorXd& U);  // correction_ = A⁻¹ S (−Δt K U)
   Eigen::VectorXd apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v);
   Eigen::VectorXd solve_coupled(const std::vector<Cell>& cells, const Eigen::VectorXd& b);
   Eigen::VectorXd gmres(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs, const Eigen::VectorXd& x0, bool warm,
