@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -51,6 +52,48 @@ void expect_error(const std::string& message, std::initializer_list<const char*>
   EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
   EXPECT_EQ(message.rfind("scene.toml", 0), 0u) << "names the file: " << message;
   for (const char* f : fragments) EXPECT_NE(message.find(f), std::string::npos) << "'" << f << "' in: " << message;
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream f(path);
+  std::stringstream b;
+  b << f.rdbuf();
+  return b.str();
+}
+
+TEST(SceneKeys, TheReferencePageListsExactlyTheParsersKeys) {
+  // paper/scene_keys.md has one table row per key, "| `table.key` | unit | default | allowed |".
+  // Its keys and the parser's (scene_keys()) must be the same set: a key added to the parser
+  // without its line, or a line for a key the parser refuses, fails here.
+  const std::string page = read_text(std::filesystem::path(RBCFLOW_SOURCE_DIR) / "paper/scene_keys.md");
+  std::set<std::string> documented;
+  std::istringstream in(page);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("| `", 0) == 0) documented.insert(line.substr(3, line.find('`', 3) - 3));
+  const std::vector<std::string> keys = scene_keys();
+  const std::set<std::string> parsed(keys.begin(), keys.end());
+  for (const std::string& k : parsed) EXPECT_TRUE(documented.count(k)) << k << " is read by the parser but not in paper/scene_keys.md";
+  for (const std::string& k : documented) EXPECT_TRUE(parsed.count(k)) << k << " is in paper/scene_keys.md but the parser refuses it";
+  EXPECT_GT(parsed.size(), 40u);
+}
+
+TEST(SceneKeys, TheReadmesSceneParsesAndRuns) {
+  // The scene shown in README.md, as a user would copy it: valid TOML, a valid scene, and a run
+  // (shortened to 0.1 ms) that ends with its cell inside the channel.
+  const std::string readme = read_text(std::filesystem::path(RBCFLOW_SOURCE_DIR) / "README.md");
+  const std::size_t a = readme.find("```toml\n");
+  ASSERT_NE(a, std::string::npos) << "README.md has no ```toml block";
+  const std::size_t b = readme.find("```", a + 8);
+  const std::string text = readme.substr(a + 8, b - a - 8);
+  const Scene scene = parse_scene(text, "README.md (its scene)", {"time.end=1e-4"});
+  ASSERT_EQ(scene.cells.size(), 1u);
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_readme_scene";
+  std::filesystem::remove_all(out);
+  const RunSummary s = run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  EXPECT_EQ(s.steps, 50);
+  ASSERT_EQ(s.cells.size(), 1u);
+  EXPECT_GT(s.cells[0].centroid.y(), 0.0);
+  EXPECT_LT(s.cells[0].centroid.y(), scene.height);
 }
 
 TEST(SceneInput, GoodSceneParsesWithUnitsAsWritten) {

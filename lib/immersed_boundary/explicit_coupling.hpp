@@ -5,8 +5,8 @@
 //   F_i^{n+1} = −∂E/∂r_i (r^{n+1})                                             (8)
 //   f_B^{n+1} = Σ_i F_i^{n+1} D_h(x − r_i^{n+1})   → the force of step 4       (10)
 //
-// The spring forces are explicit, so Δt is bounded by the membrane stiffness (SPEC section 9
-// measured ≈ 4.7e-8 s at h = 0.125 µm with the study's constants read in SI). A scene's membrane
+// The spring forces are explicit, so Δt is bounded by the membrane stiffness (the limits:
+// experiments/stability_map, and paper/method/03_immersed_boundary.md). A scene's membrane
 // repulsion (membrane_repulsion.hpp; not in the study) adds to F^{n+1} once every cell has moved.
 #include <vector>
 

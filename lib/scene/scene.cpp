@@ -610,6 +610,15 @@ std::string toml_number(double v) {
 }
 }  // namespace
 
+std::vector<std::string> scene_keys() {
+  std::vector<std::string> keys;
+  for (const TableSpec& t : schema())
+    for (const std::string& k : t.keys) keys.push_back(t.name + "." + k);
+  for (const auto& [table, list] : {std::pair{"cell", &kCellKeys}, std::pair{"obstacle", &kObstacleKeys}, std::pair{"disk", &kDiskKeys}})
+    for (const std::string& k : *list) keys.push_back(std::string(table) + "." + k);
+  return keys;
+}
+
 std::string scene_to_toml(const Scene& s) {
   std::ostringstream o;
   const auto num = toml_number;

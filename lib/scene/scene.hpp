@@ -136,6 +136,9 @@ struct Scene {
 // a bare word is taken as a string) applied before validation. Throws SceneError.
 Scene load_scene_file(const std::string& path, const std::vector<std::string>& overrides = {});
 Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides = {});
+// Every key a scene may hold, as "table.key" ("cell.center" for [[cell]] center, …): the parser's
+// own list, which paper/scene_keys.md documents (a test keeps the two the same).
+std::vector<std::string> scene_keys();
 // The scene as a TOML file that parse_scene reads back to the same values (every number with 17
 // significant digits): what a checkpoint stores and compares.
 std::string scene_to_toml(const Scene& scene);
