@@ -144,13 +144,14 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   // step, x0 = Uⁿ + B⁻¹ (b − bⁿ). What the start misses is mostly the last solve's own error,
   // grown about a hundredfold by one step (the starting residual is ≈ 100 times the tolerance
   // at 1e-4 and 1e-3, measured at 3e-6 s): a straight line through two solutions carries two
-  // such errors, and at larger Δt the trend it follows is worth less than that. Measured
-  //: GMRES
-  // iterations per step 8.47 → 7.74 (50 cells, seed 1), 7.58 → 6.89 (seed 2), 10.95 → 10.00
+  // such errors, and at larger Δt the trend it follows is worth less than that. Measured at
+  // Δt = 3e-6 s, 300 steps from the end of each cell_free_layer run, GMRES iterations per step,
+  // linear → constant: 8.47 → 7.74 (50 cells, seed 1), 7.58 → 6.89 (seed 2), 10.95 → 10.00
   // (seed 3), 8.70 → 8.55, 8.47 → 8.15, 8.47 → 8.19 (100 cells, seeds 1–3), with 3–38 % fewer
   // block rebuilds. From rest in the developed profile, the cells still accelerating, the
   // straight line does better (100 cells: 4.1 against 6.2 products a step at 1.2e-6 s, 6.7
-  // against 7.5 at 2e-6 s), so it stays the default (paper/method/04_semi_implicit_coupling.md).
+  // against 7.5 at 2e-6 s). CouplingOptions chooses the constant start: the study's long runs
+  // spend nearly all their steps in the developed flow.
   const bool warm = last_U_.size() == rhs.size() && last_rhs_.size() == rhs.size();
   Eigen::VectorXd x0;
   if (warm && options_.start == Start::kLinear && before_last_U_.size() == rhs.size() && before_last_rhs_.size() == rhs.size())
