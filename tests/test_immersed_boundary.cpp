@@ -184,10 +184,9 @@ std::string failure_of(const Scene& s, double* fastest = nullptr, const Points* 
 std::string failure_of_narrow_run(double h, double dt, long steps) { return failure_of(narrow_scene(h, dt, steps)); }
 
 TEST(ExplicitCoupling, TimeStepAboveTheStabilityLimitStopsTheRunNamingTheCause) {
-  // Measured (commit of this test): the study's narrow channel, one s* = 0.55 cell, SI reading,
-  // area penalty on, is stable at Δt = 3.0e-8 s and unstable from 3.3e-8 s by the CFL and strain
-  // checks (2.62e-8 / 3.0e-8 s with the speed check of, stability map). At 1e-7 s the run
-  // must stop within 100 steps with a message naming the cause.
+  // The study's narrow channel, one s* = 0.55 cell, SI reading, area penalty on: the explicit
+  // limit is 2.6e-8 s (the stability map; paper/method/03_immersed_boundary.md). At 1e-7 s the
+  // run must stop within 100 steps with a message naming the cause.
   const std::string message = failure_of_narrow_run(0.125e-6, 1e-7, 100);
   ASSERT_FALSE(message.empty()) << "the unstable run was not stopped";
   const bool named = message.find("membrane") != std::string::npos || message.find("non-finite") != std::string::npos;

@@ -33,7 +33,7 @@ struct Params {
   // below, README.md); the experiment's cases all use these.
   MembraneConstants membrane;  // units = "si" (MembraneConstants default)
   double narrow_mesh = 0.125e-6;   // h, m (80 per 10 um)
-  double narrow_dt = 2e-8;         // s; our explicit limit is 2.6e-8 s (stability map, since the speed check)
+  double narrow_dt = 2e-8;         // s; below the explicit limit at this h (paper/method/03_immersed_boundary.md)
   double narrow_end = 7.5e-3;      // s
   double sample_every = 5e-5;      // s; Re with the cell is averaged over the last sample interval
   // Units evidence: the other reading run over the first part of the migration.
