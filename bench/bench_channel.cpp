@@ -288,10 +288,6 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
   rbc::Scene scene = from.empty() ? rbc::cell_free_layer::case_scene(*c, false) : rbc::checkpoint_scene(from);
   rbc::CouplingOptions options;  // the library's own, unless the flags below say otherwise
   if (!start.empty()) options.start = start == "linear" ? rbc::CouplingOptions::Start::kLinear : rbc::CouplingOptions::Start::kConstant;
-  auto named = [](const rbc::CouplingOptions& o) {
-    return std::string(o.turn_blocks ? "turned" : "fixed") + "/" +
-           (o.product_precision == rbc::CouplingProducts::Precision::kDouble ? "double" : "single");
-  };
   struct Run {
     std::unique_ptr<rbc::Simulation> sim;
     rbc::SemiImplicitMembraneStep::Cost before;
@@ -304,7 +300,8 @@ static void bench_crowd(int steps, const std::string& from, const std::string& n
     throw std::invalid_argument("bench_channel: alternate --coupling-blocks or --coupling-solves, not both");
   struct Variant { std::string blocks, solves, label; };
   std::vector<Variant> variants;
-  const std::string own = named(options), own_blocks = own.substr(0, own.find('/')), own_solves = own.substr(own.find('/') + 1);
+  const std::string own_blocks = options.turn_blocks ? "turned" : "fixed";
+  const std::string own_solves = options.product_precision == rbc::CouplingProducts::Precision::kDouble ? "double" : "single";
   for (const std::string& b : blocks.empty() ? std::vector<std::string>{own_blocks} : blocks)
     for (const std::string& v : solves.empty() ? std::vector<std::string>{own_solves} : solves)
       variants.push_back({b, v, b + "/" + v});

@@ -164,7 +164,9 @@ PeriodicBandedSolver::Operator QuasiStokesProjection::schur_operator() const {
   return [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); };
 }
 
-void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt) {
+void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt,
+                                          const SchurSolve& schur_solve) {
+  if (schur_solve && !exact_pc_) throw std::logic_error("QuasiStokesProjection: a caller's S⁻¹ needs the Schur preconditioner");
   if (!exact_pc_) {
     out = u;
     std::vector<double> p(mesh_.pressure_nodes(), 0.0);
@@ -173,7 +175,12 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
   }
   divergence(u, b_);
   scale(b_, -rho / dt);
-  precondition(b_, z_);  // p = S⁻¹ b, mean-zero
+  if (schur_solve) {  // p = S⁻¹ b, mean-zero
+    schur_solve(b_.data(), z_.data());
+    remove_mean(z_);
+  } else {
+    precondition(b_, z_);
+  }
   add_pressure_gradient(u, z_, rho, dt, out);
 }
 

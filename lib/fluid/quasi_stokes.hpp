@@ -10,6 +10,7 @@
 // warm-started from the previous step's pressure. S is a fixed stencil on T_2h, so it can be
 // inverted exactly by the fast solver ("schur", one CG iteration); the study's own choice, the
 // Neumann Laplacian of T_2h, is kept as "laplacian". p is mean-zero (lumped weights of T_2h).
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,13 +44,14 @@ class QuasiStokesProjection {
   // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check
   // (B, one solve, Bᵀ: two stencil sweeps fewer than project()); with the Laplacian one, project()
   // from p = 0. out = P u (out may be u).
-  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt);
-  // Its parts, for a caller with its own S⁻¹ (the coupling's single-precision products,
-  // coupling_products.hpp): whether S⁻¹ is the exact fast solve, S itself as an operator, and
-  // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
+  // schur_solve: z = S⁻¹ r in place of the projection's own fast solve (a caller's solver of the
+  // same S, e.g. the coupling's single-precision one: coupling_products.hpp); only with the
+  // exact Schur preconditioner. The mean is removed from z either way.
+  using SchurSolve = std::function<void(const double* r, double* z)>;
+  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, const SchurSolve& schur_solve = nullptr);
+  // Whether S⁻¹ is the exact fast solve, and S itself as an operator (to build another solver of it).
   bool exact_schur_solve() const { return exact_pc_; }
   PeriodicBandedSolver::Operator schur_operator() const;
-  void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;
@@ -57,6 +59,8 @@ class QuasiStokesProjection {
 
  private:
   void apply_schur(const std::vector<double>& p, std::vector<double>& out) const;
+  // out = u + (Δt/ρ) M⁻¹ Bᵀ p (out may be u).
+  void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
   // z = S⁻¹ r (or the Laplacian's), mean-zero.
   void precondition(const std::vector<double>& r, std::vector<double>& z);
 

@@ -43,8 +43,8 @@ CouplingPreconditioner::CouplingPreconditioner(StepMobility& mobility, const Mem
 
 void CouplingPreconditioner::set_block_refresh_steps(int steps) { max_refresh_steps_ = refresh_steps_ = std::max(1, steps); }
 
-void CouplingPreconditioner::prepare(const std::vector<Cell>& cells, bool several, const Eigen::VectorXd& last_U,
-                                     const std::vector<Eigen::Index>& offset) {
+void CouplingPreconditioner::prepare(const std::vector<Cell>& cells, const std::vector<MembraneStiffness>& stiffness, bool several,
+                                     const Eigen::VectorXd& last_U, const std::vector<Eigen::Index>& offset) {
   // One cell's block is its whole system, built every step. Several: rebuilt every
   // refresh_steps_ steps, sooner after a hard step (after_solve), the interval growing back by
   // one at each rebuild that was due.
@@ -53,7 +53,7 @@ void CouplingPreconditioner::prepare(const std::vector<Cell>& cells, bool severa
   blocks_.resize(ncells);
   if (!several_) {
     block_nodes_.clear();
-    build_block(0, cells[0].nodes, cells[0].target_area, cells[0].kb_scale);
+    factor_block(0, stiffness[0], cells[0].nodes);  // K at the cell's own nodes: the caller's
     ++block_builds_;
   } else if (int(block_nodes_.size()) != ncells || rebuild_now_ || steps_since_rebuild_ >= refresh_steps_) {
     if (!rebuild_now_ && int(block_nodes_.size()) == ncells) refresh_steps_ = std::min(max_refresh_steps_, refresh_steps_ + 1);
@@ -115,8 +115,7 @@ Eigen::VectorXd CouplingPreconditioner::apply(const Eigen::VectorXd& v, const st
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < int(blocks_.size()); ++c) {
     const Eigen::Index n = offset[c + 1] - offset[c];
-    if (several_)
-    {
+    if (several_) {
       // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (bf16_lu_solve.hpp).
       // Turned blocks: x = R B⁻¹ Rᵀ v, node by node (see the header).
       const Block& b = blocks_[c];
@@ -146,18 +145,22 @@ Eigen::VectorXd CouplingPreconditioner::apply(const Eigen::VectorXd& v, const st
       } else {
         for (int i = 0; i < m; ++i) out[offset[c] + i] = x[i];
       }
-    }
-    else
+    } else {
       out.segment(offset[c], n) = blocks_[c].lu.solve(v.segment(offset[c], n));
+    }
   }
   apply_seconds_ += seconds_since(t0);
   return out;
 }
 
 void CouplingPreconditioner::build_block(int c, const Points& r, double target_area, double kb_scale) {
-  // The cell's own system I + Δt M_cc K_c at nodes r, factored once (K and M both at r); with
-  // several cells M̄_cc, M averaged over the cell's phase on the grid along x1 (step_mobility.hpp).
-  const MembraneStiffness K = membrane_stiffness(model_of(model_, kb_scale), r, target_area);
+  // The cell's own system at nodes r (K and M both at r).
+  factor_block(c, membrane_stiffness(model_of(model_, kb_scale), r, target_area), r);
+}
+
+void CouplingPreconditioner::factor_block(int c, const MembraneStiffness& K, const Points& r) {
+  // I + Δt M_cc K_c, factored once; with several cells M̄_cc, M averaged over the cell's phase on
+  // the grid along x1 (step_mobility.hpp).
   Eigen::MatrixXd M;
   if (several_)
     mobility_.phase_averaged_matrix(r, M);  // a preconditioner that a cell carried along x1 keeps
@@ -165,8 +168,7 @@ void CouplingPreconditioner::build_block(int c, const Points& r, double target_a
     mobility_.matrix(r, M);
   Eigen::MatrixXd B = dt_ * K.right_multiply(M);
   B.diagonal().array() += 1.0;
-  if (several_)
-  {
+  if (several_) {
     const Eigen::PartialPivLU<Eigen::MatrixXf> lu(B.cast<float>());
     Block& b = blocks_[c];
     detail::pack_lu_bf16(lu.matrixLU().data(), int(B.rows()), b.lu_bf16);
@@ -175,9 +177,9 @@ void CouplingPreconditioner::build_block(int c, const Points& r, double target_a
     // P B = L U with P = lu.permutationP(): row i of P B is row p⁻¹(i) of B.
     const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse = lu.permutationP().inverse();
     b.permutation.assign(inverse.indices().data(), inverse.indices().data() + B.rows());
-  }
-  else
+  } else {
     blocks_[c].lu.compute(B);
+  }
 }
 
 void CouplingPreconditioner::save_schedule(CheckpointWriter& w) const {

@@ -30,6 +30,7 @@
 #include "io/checkpoint.hpp"
 #include "immersed_boundary/step_mobility.hpp"
 #include "membrane/cell.hpp"
+#include "membrane/membrane_stiffness.hpp"
 #include "membrane/spring_membrane.hpp"
 
 namespace rbc {
@@ -48,8 +49,10 @@ class CouplingPreconditioner {
 
   // At the start of a step, before the solve: the blocks it uses. several: the blocks only
   // precondition (see above); otherwise cell 0's block is its whole system, built at its nodes.
-  // last_U, offset: the last step's node velocities and each cell's first unknown (building ahead).
-  void prepare(const std::vector<Cell>& cells, bool several, const Eigen::VectorXd& last_U, const std::vector<Eigen::Index>& offset);
+  // stiffness: each cell's K at its nodes now (one cell's block is built from it); last_U, offset:
+  // the last step's node velocities and each cell's first unknown (building ahead).
+  void prepare(const std::vector<Cell>& cells, const std::vector<MembraneStiffness>& stiffness, bool several,
+               const Eigen::VectorXd& last_U, const std::vector<Eigen::Index>& offset);
   // B⁻¹ v (turned where asked).
   Eigen::VectorXd apply(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& offset);
   // GMRES did not converge with the blocks as they are: rebuild them at the step's own nodes, and
@@ -85,7 +88,8 @@ class CouplingPreconditioner {
     std::vector<float> inverse_diagonal;
     std::vector<int> permutation;  // row i of P B is row permutation[i] of B
   };
-  void build_block(int c, const Points& r, double target_area, double kb_scale);
+  void build_block(int c, const Points& r, double target_area, double kb_scale);  // K at r, then factor_block
+  void factor_block(int c, const MembraneStiffness& K, const Points& r);
   void rebuild_all(const std::vector<Cell>& cells, bool ahead, const Eigen::VectorXd& last_U, const std::vector<Eigen::Index>& offset);
   void fit_turns(const std::vector<Cell>& cells);
 

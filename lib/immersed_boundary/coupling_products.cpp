@@ -12,9 +12,7 @@ CouplingProducts::CouplingProducts(const ChannelMesh& mesh, ImplicitDiffusion& d
       rho_(rho),
       dt_(dt),
       rhs1_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0),
-      rhs2_(rhs1_.size(), 0.0),
-      divergence_(mesh.pressure_nodes(), 0.0),
-      pressure_(mesh.pressure_nodes(), 0.0) {
+      rhs2_(rhs1_.size(), 0.0) {
   if (precision == Precision::kSingleWherePossible && !diffusion.constrained() && projection.exact_schur_solve()) {
     single_helmholtz_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.nx, mesh.ny - 1, diffusion.helmholtz_operator(), false);
     single_schur_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.pnx(), mesh.pny(), projection.schur_operator(), true);
@@ -44,19 +42,10 @@ void CouplingProducts::response(VelocityField& out) {
 }
 
 void CouplingProducts::project(const VelocityField& u, VelocityField& out) {
-  if (!single_schur_) {
+  if (single_schur_)
+    projection_.project_exact(u, out, rho_, dt_, [this](const double* r, double* z) { single_schur_->solve(r, z); });
+  else
     projection_.project_exact(u, out, rho_, dt_);
-    return;
-  }
-  // p = S⁻¹ (−(ρ/Δt) B u), mean-zero, then out = u + (Δt/ρ) M⁻¹ Bᵀ p: project_exact's steps.
-  projection_.divergence(u, divergence_);
-  const double c = -rho_ / dt_;
-  const std::ptrdiff_t size = std::ptrdiff_t(divergence_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t k = 0; k < size; ++k) divergence_[k] *= c;
-  single_schur_->solve(divergence_.data(), pressure_.data());
-  projection_.remove_mean(pressure_);
-  projection_.add_pressure_gradient(u, pressure_, rho_, dt_, out);
 }
 
 }  // namespace rbc

@@ -49,7 +49,6 @@ class CouplingProducts {
   double rho_, dt_;
   std::vector<double> rhs1_, rhs2_;
   std::unique_ptr<SinglePeriodicBandedSolver> single_helmholtz_, single_schur_;  // null: the double solves
-  std::vector<double> divergence_, pressure_;
 };
 
 }  // namespace rbc

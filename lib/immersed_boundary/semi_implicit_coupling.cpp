@@ -328,7 +328,7 @@ void SemiImplicitMembraneStep::prepare_system(const std::vector<Cell>& cells) {
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c)
     stiffness_[c] = membrane_stiffness(model_of(model_, cells[c].kb_scale), cells[c].nodes, cells[c].target_area);
-  preconditioner_.prepare(cells, several_, last_U_, offset_);
+  preconditioner_.prepare(cells, stiffness_, several_, last_U_, offset_);
 }
 
 Eigen::VectorXd SemiImplicitMembraneStep::solve_system(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs) {
