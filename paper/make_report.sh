@@ -31,7 +31,7 @@ commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 dirty=$(git status --porcelain -- . ':!paper/report' 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)  # the report itself does not count
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 date_now=$(date -u '+%Y-%m-%d %H:%M UTC')
-parameters=$([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full (the study's)")
+parameters=$([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')")
 
 # The experiments this run writes: ONLY's (each must be one of the report's), or all of them.
 run_list=("$@")
@@ -186,11 +186,15 @@ out="$report/README.md.tmp"
     if [ -f "$report/data/$exp/provenance.md" ]; then cat "$report/data/$exp/provenance.md"; else echo "| $exp | (not run yet) | | | |"; fi
   done
   echo
-  echo "Verdicts: **PASS** within the tolerance fixed before the comparison; **DEVIATION** outside it and"
-  echo "recorded in reference-data/deviations/ with our expected band, the cause we believe in and its"
-  echo "evidence; **FAIL** outside the tolerance and not explained, or a recorded deviation that moved."
-  echo "Each experiment's section below has its full table (with ours − study and the cause of every"
-  echo "deviation), the run time and the figures."
+  echo "Every number is printed as ours ± u_num, our numerical uncertainty (Δt refinement, start ensemble,"
+  echo "averaging window; the mesh apart, in the column 'converged in h'), against a tolerance from the study"
+  echo "alone (reference-data/README.md). Verdicts: **PASS** within the tolerance with u_num no larger than it;"
+  echo "**UNRESOLVED** u_num larger than the tolerance (or not measured) and ours ± u_num reaching it: our"
+  echo "numerics cannot decide, counted as not reproduced; **DEVIATION** outside it and recorded in"
+  echo "reference-data/deviations/ with our expected band, the cause we believe in and its evidence; **FAIL**"
+  echo "outside the tolerance and not explained, or a recorded deviation that moved. Each experiment's section"
+  echo "below has its full table (u_num's parts, how each row was run, the cause of every deviation), the run"
+  echo "time and the figures."
   echo
   echo "## All the study's numbers"
   echo

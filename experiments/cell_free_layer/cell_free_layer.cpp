@@ -13,6 +13,7 @@
 
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
+#include "reference/uncertainty.hpp"
 
 namespace rbc::cell_free_layer {
 
@@ -451,6 +452,48 @@ std::string convergence_table(const Params& p, const Results& res) {
 
 }  // namespace
 
+namespace {
+
+// A layer (um) or Re row with its u_num (issue 40): the Δt part from the scene's 3 us and the
+// halved run (two levels, first order, Fs 3), the arrangements' spread (the study's case and the
+// other seeds, at 3 us), the window noise of the reported run (the last 5 windows of 1 ms); the
+// h column from the 2h run.
+Measured with_uncertainty(const Params& p, const Results& res, const std::string& base, const std::string& reported, bool re,
+                          const std::string& note) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  auto value = [&](const CaseResult& c) { return re ? c.re : c.layer * 1e6; };
+  const CaseResult& r = res.cases.at(reported);
+  Measured m{value(r), {}, note};
+  if (ok(base) && ok(base + "_dt1.5us")) {
+    m.u.dt = grid_convergence_index({value(res.cases.at(base + "_dt1.5us")), value(res.cases.at(base))}, 2.0, 1.0);
+    m.u.dt->label = "dt 1.5/3 us";
+  }
+  std::vector<double> members;
+  if (ok(base)) members.push_back(value(res.cases.at(base)));
+  for (unsigned s : p.seeds)
+    if (ok(base + "_seed" + std::to_string(s))) members.push_back(value(res.cases.at(base + "_seed" + std::to_string(s))));
+  if (members.size() >= 2) {
+    m.u.ensemble = sample_std(members);
+    m.u.members = members.size();
+  }
+  std::vector<double> v(r.t.size());
+  for (std::size_t k = 0; k < r.t.size(); ++k) v[k] = re ? r.reynolds[k] : 0.5 * (r.gap_lower[k] + r.gap_upper[k]) * 1e6;
+  m.u.window = window_noise(r.t, v, kWindow, 5);
+  if (ok(base) && ok(base + "_h0.625um")) {
+    const auto h = grid_convergence_index({value(res.cases.at(base)), value(res.cases.at(base + "_h0.625um"))}, 2.0, 2.0);
+    char b[160];
+    std::snprintf(b, sizeof b, "h -> 0 moves it by %+.2g (the 2h run, second order)", h.extrapolated - value(res.cases.at(base)));
+    m.converged_in_h = b;
+  }
+  char how[260];
+  std::snprintf(how, sizeof how, "semi-implicit coupling (not the study's explicit one), dt = %g us, h = %g um; incremental pressure form (not the study's); %s; area term (7) during the flow",
+                r.dt * 1e6, r.h * 1e6, r.spec.repulsion > 0 ? "membrane repulsion on (not in the study's model)" : "no repulsion");
+  m.how = how;
+  return m;
+}
+
+}  // namespace
+
 Results run(const Params& p) {
   Results res;
   res.cases = case_runner::run_selected(cases(p), p.only, "cell_free_layer", p.out_dir, [&](const Case& c) { return run_case(p, c); });
@@ -465,15 +508,19 @@ Results run(const Params& p) {
       for (const char* id : {"hct_", "cfl_", "re_"}) res.measured[id + tag] = {{}, {}, why};
       continue;
     }
-    const CaseResult& r = res.cases.at(name);
-    char note[300];
-    std::snprintf(note, sizeof note, "over %.4g-%.4g s", r.t.back() - kWindow, r.t.back());
     if (p.quick) continue;  // the quick case has its own record (below)
+    // The row reports the finest Δt that finished (issue 40): the scene's 3 us or the halved run.
+    const std::string reported = ok(name + "_dt1.5us") ? name + "_dt1.5us" : name;
+    const CaseResult& r = res.cases.at(reported);
+    char note[300];
+    std::snprintf(note, sizeof note, "%s, over %.4g-%.4g s", reported.c_str(), r.t.back() - kWindow, r.t.back());
     res.measured["hct_" + tag] = {r.hct, {}, note};
-    std::snprintf(note, sizeof note, "lower wall %.3f um, upper wall %.3f um, over %.4g-%.4g s; 100/Hct = %.2f um (ours)", r.layer_lower * 1e6,
-                  r.layer_upper * 1e6, r.t.back() - kWindow, r.t.back(), 100 / r.hct);
-    res.measured["cfl_" + tag] = {r.layer * 1e6, {}, note};
-    res.measured["re_" + tag] = {r.re, {}, "mean over the last ms"};
+    res.measured["hct_" + tag].u.other = "geometry of the prepared cells (round-off)";
+    res.measured["hct_" + tag].u.other_value = 0.0;
+    std::snprintf(note, sizeof note, "%s: lower wall %.3f um, upper wall %.3f um, over %.4g-%.4g s; over the run's second half %.3f um; 100/Hct = %.2f um (ours)",
+                  reported.c_str(), r.layer_lower * 1e6, r.layer_upper * 1e6, r.t.back() - kWindow, r.t.back(), r.layer_late * 1e6, 100 / r.hct);
+    res.measured["cfl_" + tag] = with_uncertainty(p, res, name, reported, false, note);
+    res.measured["re_" + tag] = with_uncertainty(p, res, name, reported, true, reported + ", mean over the last ms");
   }
   if (!p.quick) {  // the quick run has one arrangement and no evidence runs
     res.ensemble_md = ensemble_table(p, res) + early_layer_table(res);

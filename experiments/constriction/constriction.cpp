@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "io/csv.hpp"
+#include "reference/uncertainty.hpp"
 
 namespace rbc::constriction {
 
@@ -278,6 +279,48 @@ Results run(const Params& p) {
     if (!p.quick) res.measured["shape_memory"] = {{}, res.wide_cells_end > 0 && res.biconcave_end == res.wide_cells_end, s.str()};
   }
   if (!p.quick && p.convergence) convergence_study(p, res);
+  if (!p.quick) {
+    // u_num of the flow rows (issue 40): the window's part (the spread of the means of its five
+    // fifths) and the Δt part, relative, from the convergence runs at the row's h and coupling
+    // (U_wide at 1 ms with Δt = 3, 1.5, 0.75 us: a proxy on a short horizon, first order).
+    const double span = (res.window_end - res.window_start) / 5;
+    std::optional<RefinementUncertainty> dt_rel;
+    {
+      std::map<double, double> at;  // Δt -> U_wide at kConvTime
+      for (const ConvergenceRun& r : res.convergence)
+        if (r.failure.empty() && r.coupling == scene.coupling && std::abs(r.h - scene.mesh_size) < 1e-12 && r.dt <= scene.dt * 1.0001)
+          at[r.dt] = r.u_wide;
+      std::vector<double> seq;
+      for (const auto& [dt, u] : at) seq.push_back(u / at.rbegin()->second);  // finest first, relative to the row's Δt
+      if (seq.size() >= 2) {
+        if (seq.size() > 3) seq.resize(3);
+        dt_rel = grid_convergence_index(seq, 2.0, 1.0);
+        dt_rel->label = "dt (relative, at 1 ms, from the convergence runs)";
+      }
+    }
+    auto fill = [&](const std::string& id, const std::vector<double>& v, double scale) {
+      Measured& m = res.measured[id];
+      m.u.window = window_noise(t, v, span, 5) * scale;
+      if (dt_rel) {
+        RefinementUncertainty d = *dt_rel;
+        d.u *= *m.value;
+        m.u.dt = d;
+      }
+      char how[240];
+      std::snprintf(how, sizeof how, "%s coupling%s, dt = %g us, h = %g um; incremental pressure form (not the study's); area term (7) during the flow",
+                    scene.coupling.c_str(), scene.coupling == "explicit" ? "" : " (not the study's explicit one)", scene.dt * 1e6, scene.mesh_size * 1e6);
+      m.how = how;
+    };
+    fill("u_wide", wide, 100);
+    fill("u_narrow", narrow, 100);
+    fill("re_wide", wide, rho * H / mu);
+    fill("re_narrow", narrow, rho * Hn / mu);
+  }
+  {
+    Measured& m = res.measured["hct"];
+    m.u.other = "geometry of the prepared cells (round-off)";
+    m.u.other_value = 0.0;
+  }
   if (p.quick) {
     res.quick_record["u_wide"] = {"mean velocity, wide part, 1-2 ms", "cm/s", res.u_wide * 100};
     res.quick_record["u_narrow"] = {"mean velocity, narrow part, 1-2 ms", "cm/s", res.u_narrow * 100};

@@ -13,6 +13,7 @@
 
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
+#include "reference/uncertainty.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -113,25 +114,25 @@ std::vector<Case> cases(const Params& p) {
   };
   // Evidence first (the Δt-halved runs are the longest), then the study's cells, the ensemble,
   // the disks (cheaper per step than the cells), the h-doubled runs, the 1.2 ms convergence runs.
+  // The Δt sequence of every study case (u_num, issue 40): 6 us (the scene's), 3 us and 1.5 us;
+  // the 1000 k_b cells also at 0.75 us (their 6 us run is outside the asymptotic range).
+  auto body = [&](const std::string& base) {
+    if (base == "disks") return disks(base, "study");
+    if (base == "s07") return cells(base, "study", 0.7, 1.0);
+    return cells(base, "study", 1.0, std::stod(base.substr(2)));
+  };
   if (p.evidence && !p.quick) {
-    Case a = cells("kb1_dt3us", "evidence", 1.0, 1.0), b = disks("disks_dt3us", "evidence");
-    // and the stiffest cells, whose semi-implicit step keeps a stiffness-dependent limit (the
-    // stability map's k_b x 1000 column): is their distance a Δt effect?
-    Case k = cells("kb1000_dt3us", "evidence", 1.0, 1000.0);
-    a.dt = b.dt = k.dt = 3e-6;
-    // The Δt sequence of the deviations (dist_kb100, kb1000_like_disks): the 100 k_b cells at
-    // 3 us, and the 1000 k_b cells and the disks at 1.5 us (is the 1000 k_b cells' Δt error
-    // first order, and where do they go as Δt -> 0 against the disks?).
-    Case k4 = cells("kb1000_dt1.5us", "evidence", 1.0, 1000.0), b4 = disks("disks_dt1.5us", "evidence");
-    Case k3 = cells("kb100_dt3us", "evidence", 1.0, 100.0);
-    k4.dt = b4.dt = 1.5e-6;
-    k3.dt = 3e-6;
-    v.push_back(k4);
-    v.push_back(a);
-    v.push_back(k);
-    v.push_back(k3);
-    v.push_back(b4);
-    v.push_back(b);
+    std::vector<Case> seq;
+    for (const auto& [suffix, dt] : std::vector<std::pair<std::string, double>>{{"_dt0.75us", 0.75e-6}, {"_dt1.5us", 1.5e-6}, {"_dt3us", 3e-6}})
+      for (const std::string base : {"kb1000", "kb100", "kb1", "kb10", "s07", "disks"}) {
+        if (suffix == "_dt0.75us" && base != "kb1000") continue;
+        Case c = body(base);
+        c.name = base + suffix;
+        c.role = "evidence";
+        c.dt = dt;
+        seq.push_back(c);
+      }
+    v.insert(v.end(), seq.begin(), seq.end());
   }
   for (double kb : {1.0, 10.0, 100.0, 1000.0}) v.push_back(cells("kb" + num(kb), "study", 1.0, kb));
   v.push_back(cells("s07", "study", 0.7, 1.0));
@@ -263,6 +264,93 @@ CaseResult run_case(const Params& p, const Case& c) {
 
 double mean_of(const std::array<double, 4>& a) { return (a[0] + a[1] + a[2] + a[3]) / 4; }
 
+// The Δt levels of a study case, coarsest first: the scene's 6 us, then halved (cases()).
+std::vector<std::string> dt_levels(const std::string& base) {
+  std::vector<std::string> v = {base, base + "_dt3us", base + "_dt1.5us"};
+  if (base == "kb1000") v.push_back(base + "_dt0.75us");
+  return v;
+}
+
+// The run a row reports: its case's finest Δt that finished (the study's Δt is unstated; each
+// case at the Δt its own convergence reaches on this machine, issue 40).
+std::string reported_case(const Results& res, const std::string& base) {
+  const auto levels = dt_levels(base);
+  for (auto it = levels.rbegin(); it != levels.rend(); ++it)
+    if (res.cases.count(*it) && res.cases.at(*it).failure.empty()) return *it;
+  return base;
+}
+
+double row_value(const CaseResult& r, bool re) { return re ? r.reynolds : r.distance * 1e6; }
+
+// A distance (um) or Re row with its u_num: the Δt part (GCI over the finest three levels
+// that finished, first order), the start ensemble's spread (the k_b cells' or the disks' members
+// at 6 us, for every cell case), the window noise of the reported run (the last 5 windows of 1 ms);
+// the h column from the 2h run of the k_b cells or the disks (second order in h).
+Measured row_with_uncertainty(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  const std::string name = reported_case(res, base);
+  const CaseResult& r = res.cases.at(name);
+  Measured m{row_value(r, re), {}, note};
+  // Δt: the finest levels that finished, finest first, consecutive (ratio 2).
+  std::vector<double> seq;
+  std::vector<std::string> labels;
+  const auto levels = dt_levels(base);
+  bool started = false;
+  for (auto it = levels.rbegin(); it != levels.rend() && seq.size() < 3; ++it) {
+    if (!ok(*it)) { if (started) break; else continue; }
+    started = true;
+    seq.push_back(row_value(res.cases.at(*it), re));
+    labels.push_back(num(res.cases.at(*it).dt * 1e6));
+  }
+  if (seq.size() >= 2) {
+    m.u.dt = grid_convergence_index(seq, 2.0, 1.0);
+    std::string label = "dt";
+    for (std::size_t k = 0; k < labels.size(); ++k) label += (k ? "/" : " ") + labels[k];
+    m.u.dt->label = label + " us";
+  }
+  // The ensemble: the study's start and the perturbed ones, at the scene's Δt.
+  const std::string family = r.spec.disks ? "disks" : "kb1";
+  std::vector<double> members;
+  if (ok(family)) members.push_back(row_value(res.cases.at(family), re));
+  for (unsigned s : p.seeds)
+    if (ok(family + "_seed" + std::to_string(s))) members.push_back(row_value(res.cases.at(family + "_seed" + std::to_string(s)), re));
+  if (members.size() >= 2) {
+    m.u.ensemble = sample_std(members);
+    m.u.members = members.size();
+  }
+  // The window: the row's mean over the last ms, against the 4 ms before.
+  if (!r.t.empty()) {
+    std::vector<double> v(r.t.size());
+    const std::string series = (fs::path(p.out_dir) / name / "series.csv").string();
+    if (re) {
+      v = csv_column(series, "reynolds");
+    } else {
+      for (std::size_t k = 0; k < r.t.size(); ++k) {
+        double d = 0;
+        for (int b = 0; b < 4; ++b) d += std::abs(r.y[k][b] - 25e-6);
+        v[k] = d / 4 * 1e6;
+      }
+    }
+    m.u.window = window_noise(r.t, v, kWindow, 5);
+  }
+  // Converged in h: the 2h run against the study's h (both at 6 us).
+  const std::string coarse = family + "_h0.625um";
+  if (ok(coarse) && ok(family)) {
+    const auto h = grid_convergence_index({row_value(res.cases.at(family), re), row_value(res.cases.at(coarse), re)}, 2.0, 2.0);
+    const double at_h = row_value(res.cases.at(family), re);
+    char b[200];
+    std::snprintf(b, sizeof b, "h -> 0 moves it by %+.2g (the %s 2h run, second order)%s", h.extrapolated - at_h,
+                  family == "kb1" ? "k_b cells'" : "disks'", base == family ? "" : "; the k_b cells' change as proxy");
+    m.converged_in_h = b;
+  }
+  char how[240];
+  std::snprintf(how, sizeof how, "%s, dt = %s us, h = %g um; study's pressure form; %s", r.spec.disks ? "rigid disks (DLM, step 4)" :
+                "semi-implicit coupling (not the study's explicit one)", num(r.dt * 1e6).c_str(), r.h * 1e6,
+                r.spec.disks ? (r.contact_steps ? "contact force acted" : "no contact force acted") : "area term (7) during the flow; no repulsion");
+  m.how = how;
+  return m;
+}
+
 // The tolerance evidence (issue 16, item 4): for the k_b cells and the disks, the spread of the
 // distance and of Re over the study's start and the perturbed ones, the change with Δt halved and
 // with h doubled; the tolerance this evidence gives, by the rule fixed before the first
@@ -383,27 +471,31 @@ Results run(const Params& p) {
   std::erase_if(res.cases, [](const auto& kv) { return kv.second.failure == case_runner::kNotRun; });  // --collect
   if (!p.only.empty()) return res;  // a part: no comparison
 
-  // The study's rows.
+  // The study's rows, each from its case's finest Δt run, with u_num beside it (issue 40).
   const std::map<std::string, std::string> dist_ids = {{"kb1", "dist_kb1"}, {"kb10", "dist_kb10"}, {"kb100", "dist_kb100"},
                                                        {"kb1000", "dist_kb1000"}, {"disks", "dist_disks"}};
   const std::map<std::string, std::string> re_ids = {{"kb1", "re_kb1"}, {"kb10", "re_kb10"}, {"kb100", "re_kb100"},
                                                      {"kb1000", "re_kb1000"}, {"s07", "re_s07"}};
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   char note[400];
-  for (const auto& [name, id] : dist_ids) {
+  for (const auto& [base, id] : dist_ids) {
+    const std::string name = reported_case(res, base);
     if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases[name].failure}; continue; }
     const CaseResult& r = res.cases.at(name);
-    std::snprintf(note, sizeof note, "over %.4g-%.4g s; 15 at t = 0", r.t.back() - kWindow, r.t.back());
-    if (r.spec.disks) std::snprintf(note, sizeof note, "over %.4g-%.4g s; 15 at t = 0; contact force acted in %ld of %ld steps", r.t.back() - kWindow,
-                                    r.t.back(), r.contact_steps, r.summary.steps);
-    if (!p.quick) res.measured[id] = {r.distance * 1e6, {}, note};
+    std::snprintf(note, sizeof note, "%s, over %.4g-%.4g s; 15 at t = 0", name.c_str(), r.t.back() - kWindow, r.t.back());
+    if (r.spec.disks) std::snprintf(note, sizeof note, "%s, over %.4g-%.4g s; 15 at t = 0; contact force acted in %ld of %ld steps", name.c_str(),
+                                    r.t.back() - kWindow, r.t.back(), r.contact_steps, r.summary.steps);
+    if (!p.quick) res.measured[id] = row_with_uncertainty(p, res, base, false, note);
   }
-  for (const auto& [name, id] : re_ids) {
+  for (const auto& [base, id] : re_ids) {
+    const std::string name = reported_case(res, base);
     if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases[name].failure}; continue; }
-    if (!p.quick) res.measured[id] = {res.cases.at(name).reynolds, {}, "mean over the last ms"};
+    if (!p.quick) res.measured[id] = row_with_uncertainty(p, res, base, true, name + ", mean over the last ms");
   }
   // The claims.
-  auto circ = [&](const std::string& n) { return ok(n) ? mean_of(res.cases.at(n).circularity_end) : NAN; };
+  // Each claim from the runs its rows report (the finest Δt of each case).
+  auto rep = [&](const std::string& base) { return reported_case(res, base); };
+  auto circ = [&](const std::string& n) { return ok(rep(n)) ? mean_of(res.cases.at(rep(n)).circularity_end) : NAN; };
   {
     bool holds = true;
     std::string s = "mean circularity at the end (1: circle; below " + std::to_string(kNonCircular).substr(0, 6) + " = visibly non-circular):";
@@ -418,25 +510,25 @@ Results run(const Params& p) {
   {
     const double c = circ("kb1000");
     std::snprintf(note, sizeof note, "mean circularity of the 1000 k_b cells at the end %.5f (almost circular: above %.4f); min of the 4 %.5f", c,
-                  kAlmostCircular, ok("kb1000") ? *std::min_element(res.cases.at("kb1000").circularity_end.begin(), res.cases.at("kb1000").circularity_end.end()) : NAN);
+                  kAlmostCircular, ok(rep("kb1000")) ? *std::min_element(res.cases.at(rep("kb1000")).circularity_end.begin(), res.cases.at(rep("kb1000")).circularity_end.end()) : NAN);
     if (!p.quick) res.measured["circular_kb1000"] = {{}, c >= kAlmostCircular, note};
   }
-  if (ok("kb1000") && ok("disks")) {
+  if (ok(rep("kb1000")) && ok(rep("disks"))) {
     // "Behave like the disks": their distances differ by less than the distance rows' tolerance
     // (from the ensemble spread and the Δt/h error: reference-data).
     double tol = NAN;
     for (const auto& row : load_reference_table(reference_table_path("four_cells_vs_disks")))
       if (row.id == "dist_disks") tol = row.tolerance;
-    const double d = (res.cases.at("kb1000").distance - res.cases.at("disks").distance) * 1e6;
+    const double d = (res.cases.at(rep("kb1000")).distance - res.cases.at(rep("disks")).distance) * 1e6;
     std::snprintf(note, sizeof note, "distance 1000 k_b - disks = %+.3f um (within the distance rows' tolerance %.3g um?); 1 k_b - disks = %+.3f um", d, tol,
-                  ok("kb1") ? (res.cases.at("kb1").distance - res.cases.at("disks").distance) * 1e6 : NAN);
+                  ok(rep("kb1")) ? (res.cases.at(rep("kb1")).distance - res.cases.at(rep("disks")).distance) * 1e6 : NAN);
     if (!p.quick) res.measured["kb1000_like_disks"] = {{}, std::abs(d) <= tol, note};
   }
-  if (ok("s07") && ok("kb1")) {
+  if (ok(rep("s07")) && ok(rep("kb1"))) {
     // "Much faster": over the first kEarly the s* = 0.7 cells come at least 1.5 times as far
     // toward the centreline as the s* = 1 cells (threshold chosen before the first run).
-    const auto& a = res.cases.at("s07");
-    const auto& b = res.cases.at("kb1");
+    const auto& a = res.cases.at(rep("s07"));
+    const auto& b = res.cases.at(rep("kb1"));
     const double da = 15e-6 - a.distance_early, db = 15e-6 - b.distance_early;
     std::snprintf(note, sizeof note, "approach toward the centreline in the first %.0f ms: s* = 0.7 %.2f um, s* = 1 %.2f um (ratio %.2f; claim: >= 1.5)",
                   kEarly * 1e3, da * 1e6, db * 1e6, da / db);
@@ -449,8 +541,8 @@ Results run(const Params& p) {
     // are printed, not judged: ours all reach the centreline, where the two sides lose meaning.
     for (const char* n : {"kb1", "kb10", "kb100", "kb1000", "disks", "s07"}) {
       const bool judged = std::string(n) != "s07";
-      if (!ok(n)) { holds = holds && !judged; continue; }
-      const double g = res.cases.at(n).stagger;
+      if (!ok(rep(n))) { holds = holds && !judged; continue; }
+      const double g = res.cases.at(rep(n)).stagger;
       if (judged) holds = holds && g >= 2 * kDiskRadius;
       std::snprintf(note, sizeof note, " %s%s %.1f", n, judged ? "" : " (not judged)", g * 1e6);
       s += note;

@@ -10,6 +10,7 @@
 #include "diagnostics/flow_diagnostics.hpp"
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
+#include "reference/uncertainty.hpp"
 #include "mesh/channel_mesh.hpp"
 
 namespace rbc::single_cell_migration {
@@ -87,6 +88,9 @@ double estimated_work(const Scene& s) {
 
 // The suffix of each swelling ratio's rows in reference-data/single_cell_migration.csv.
 const std::map<double, std::string> kRowIds = {{0.55, "s055"}, {0.7, "s07"}, {1.0, "s10"}};
+
+// The narrow runs without the area term during the flow (issue 40, item 8).
+constexpr const char* kNoAreaTermPrefix = "re_flow_without_area_term_";
 
 std::string re_case_name(double h, double dt, double s) {
   char b[64];
@@ -174,6 +178,56 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
   std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_summary;
 }
 
+// u_num of a Re row (issue 40): the Δt part from the two Δt of the finest h of the Re evidence
+// runs (a proxy: the row's own h has one Δt; two levels, so Fs = 3), and the window's part (the
+// row averages the last sample interval: the spread of the last 5 such means).
+NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double s, const Case& row) {
+  NumericalUncertainty u;
+  auto re_of = [&](const std::string& name) -> double {
+    const auto it = res.cases.find(name);
+    return it == res.cases.end() || !it->second.failure.empty() ? NAN : it->second.summary.reynolds;
+  };
+  std::map<double, std::vector<double>> dts;  // h -> Δt, smallest first
+  for (const auto& [h, dt] : p.re_runs) dts[h].push_back(dt);
+  if (!dts.empty()) {
+    auto& [h, v] = *dts.begin();
+    std::sort(v.begin(), v.end());
+    if (v.size() >= 2) {
+      const double fine = re_of(re_case_name(h, v[0], s)), coarse = re_of(re_case_name(h, v[1], s));
+      if (std::isfinite(fine) && std::isfinite(coarse)) {
+        u.dt = grid_convergence_index({fine, coarse}, v[1] / v[0], 1.0);
+        char label[96];
+        std::snprintf(label, sizeof label, "dt %g/%g s at h = %g um", v[0], v[1], h * 1e6);
+        u.dt->label = label;
+      }
+    }
+  }
+  const std::string series = (fs::path(p.out_dir) / ("narrow_" + p.membrane.units + "_" + tag(s)) / "series.csv").string();
+  if (fs::exists(series)) u.window = window_noise(csv_column(series, "t"), csv_column(series, "reynolds"), p.sample_every, 5);
+  (void)row;
+  return u;
+}
+
+// The "converged in h" column of a Re row: the h sequence 0.5/0.25/0.125 um (largest Δt of each
+// coarser h), its observed order and the extrapolation h -> 0.
+std::string re_converged_in_h(const Params& p, const Results& res, double s) {
+  std::map<double, double> largest;  // h -> largest Δt
+  for (const auto& [h, dt] : p.re_runs) largest[h] = std::max(largest[h], dt);
+  std::vector<double> seq = {res.cases.count("narrow_" + p.membrane.units + "_" + tag(s)) ? res.cases.at("narrow_" + p.membrane.units + "_" + tag(s)).summary.reynolds : NAN};
+  for (const auto& [h, dt] : largest) {
+    const auto it = res.cases.find(re_case_name(h, dt, s));
+    seq.push_back(it == res.cases.end() || !it->second.failure.empty() ? NAN : it->second.summary.reynolds);
+  }
+  std::vector<double> ok;
+  for (double v : seq)
+    if (std::isfinite(v)) ok.push_back(v); else break;
+  if (ok.size() < 2) return "";
+  const RefinementUncertainty r = grid_convergence_index(ok, 2.0, 2.0);
+  char b[160];
+  std::snprintf(b, sizeof b, "%.4f (h -> 0 from %zu meshes; %s)", r.extrapolated, ok.size(), r.describe(2).c_str());
+  return b;
+}
+
 // What could explain the Reynolds numbers with the cell (issue 14): their h- and Δt-convergence,
 // the averaging window and the definition of U. Markdown for the report, from the narrow runs.
 void re_evidence_table(const Params& p, Results& res) {
@@ -243,6 +297,18 @@ void re_evidence_table(const Params& p, Results& res) {
                   mean(U, from), mean(U, 0.0), mean(Qp, from), mean(Up, from), study[s].c_str());
     md << row;
   }
+  md << "\nThe area term (7) only while the shapes are prepared, not during the flow (the study's text can be read either way; "
+        "the rows keep it during the flow), at h = " << p.narrow_mesh * 1e6 << " um and the rows' Δt:\n\n"
+        "| s* | Re, area term during the flow (the row) | Re, area term off during the flow | its area drift at the end | study |\n|---|---|---|---|---|\n";
+  for (double s : p.swelling_ratios) {
+    const std::string with = "narrow_" + p.membrane.units + "_" + tag(s), without = kNoAreaTermPrefix + tag(s);
+    const auto a = res.cases.find(with), b = res.cases.find(without);
+    if (a == res.cases.end() || b == res.cases.end() || !b->second.failure.empty()) continue;
+    char row[256];
+    std::snprintf(row, sizeof row, "| %g | %.4f | %.4f | %+.2e | %s |\n", s, a->second.summary.reynolds, b->second.summary.reynolds,
+                  b->second.summary.cells.empty() ? NAN : b->second.summary.cells[0].area_drift, study[s].c_str());
+    md << row;
+  }
   res.re_evidence = md.str();
   std::ofstream(fs::path(p.out_dir) / "re_evidence.md") << res.re_evidence;
 }
@@ -274,6 +340,15 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
         r.source = "single_cell_migration " + re_case_name(h, dt, s);
         jobs.push_back({re_case_name(h, dt, s), r});
       }
+    // The area term (7) only while preparing the shape, not during the flow (issue 40, item 8):
+    // one reading of the study we had not tried for its Re offsets.
+    if (p.re_convergence) {
+      Scene r = sc;
+      r.area_penalty = false;
+      r.snapshots = {0.0};
+      r.source = "single_cell_migration " + std::string(kNoAreaTermPrefix) + tag(s);
+      jobs.push_back({kNoAreaTermPrefix + tag(s), r});
+    }
     if (std::find(p.other_swelling_ratios.begin(), p.other_swelling_ratios.end(), s) != p.other_swelling_ratios.end()) {
     Scene other = sc;
     other.membrane_constants.units = p.other_units;
@@ -398,8 +473,21 @@ Results run(const Params& p) {
       res.quick_record["length" + k] = {"x1-extent" + what, "um", cell.shape.length * 1e6};
       res.quick_record["hct0" + k] = {"hematocrit of the prepared cell" + what.substr(0, what.find(", at")), "%", c.hematocrit0};
     }
+    {
+      // The geometry row's numerical part: none but round-off (the prepared polygon's exact area).
+      auto& m = res.measured["hct_" + id];
+      m.u.other = "geometry of the prepared polygon (round-off)";
+      m.u.other_value = 0.0;
+      m.how = "prepared shape at t = 0 (area term (7) while preparing)";
+    }
     if (!p.quick) {
       res.measured["re_" + id] = {c.summary.reynolds, {}, ""};
+      res.measured["re_" + id].u = re_uncertainty(p, res, s, c);
+      res.measured["re_" + id].converged_in_h = re_converged_in_h(p, res, s);
+      char how[200];
+      std::snprintf(how, sizeof how, "explicit coupling (the study's), h = %g um, dt = %g s; study's pressure form; area term (7) during the flow",
+                    p.narrow_mesh * 1e6, p.narrow_dt);
+      res.measured["re_" + id].how = how;
       const double y7 = value_at(c.t, c.y, p.centreline_check_time);
       char note[64];
       std::snprintf(note, sizeof note, "y(%.1f ms) = %.3f um", p.centreline_check_time * 1e3, y7 * 1e6);

@@ -14,7 +14,8 @@ namespace rbc {
 namespace {
 
 const std::vector<std::string> kColumns = {"id", "quantity", "value", "unit", "tolerance",
-                                           "tolerance_type", "kind", "source", "reason"};
+                                           "tolerance_type", "kind", "source", "reason", "apart_from"};
+const std::vector<std::string> kCheckColumns = {"id", "ours", "verdict", "note", "u_num", "u_parts", "converged_in_h", "how", "tolerance"};
 const std::vector<std::string> kDeviationColumns = {"id", "ours", "band_low", "band_high", "applies", "cause", "evidence"};
 
 std::string fmt(double v) {
@@ -36,6 +37,15 @@ std::string study_value(const ReferenceRow& r) {
   return (r.value_text.empty() ? fmt(*r.value) : r.value_text) + (r.unit.empty() ? "" : " " + r.unit);
 }
 
+// u_num with two significant digits.
+std::string fmt_uncertainty(double u) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.2g", u);
+  return b;
+}
+
+bool bold(Verdict v) { return v == Verdict::Pass || v == Verdict::Fail || v == Verdict::Deviation || v == Verdict::Unresolved; }
+
 std::string md_cell(std::string s) {
   for (auto& c : s)
     if (c == '|' || c == '\n') c = c == '|' ? '/' : ' ';
@@ -47,6 +57,7 @@ std::string md_cell(std::string s) {
 const char* verdict_name(Verdict v) {
   switch (v) {
     case Verdict::Pass: return "PASS";
+    case Verdict::Unresolved: return "UNRESOLVED";
     case Verdict::Deviation: return "DEVIATION";
     case Verdict::Fail: return "FAIL";
     case Verdict::NotRun: return "not run";
@@ -68,6 +79,8 @@ std::vector<ReferenceRow> load_reference_table(const std::string& path) {
   for (const CsvRecord& rec : read_csv_table(path, kColumns)) {
     const auto& f = rec.fields;
     ReferenceRow r{f[0], f[1], std::nullopt, f[3], 0.0, f[5], f[6], f[7], f[8], f[2]};
+    std::istringstream apart(f[9]);
+    for (std::string id; apart >> id;) r.apart_from.push_back(id);
     if (r.kind != "number" && r.kind != "claim" && r.kind != "context")
       throw std::runtime_error(rec.where + ": kind must be number, claim or context, not '" + r.kind + "'");
     if (r.kind == "number") {
@@ -123,7 +136,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     const auto dev = deviations.find(r.id);
     const KnownDeviation* known =
         dev != deviations.end() && (at_study_parameters || dev->second.applies == "any") ? &dev->second : nullptr;
-    bool within = false, in_band = false, measured = false;
+    bool within = false, in_band = false, measured = false, undecided = false;
     if (r.kind == "context") {
       c.verdict = Verdict::Context;
     } else if (it == ours.end() || (!it->second.value && !it->second.holds)) {
@@ -131,19 +144,32 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     } else if (r.kind == "number") {
       const double v = it->second.value.value_or(NAN);
       const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
+      const std::optional<double> u = it->second.u.total();
       within = std::abs(v - *r.value) <= allowed;
+      // Our numerics cannot decide: u_num above the tolerance (or unmeasured), and ours ± u_num
+      // reaches into the window. Farther out, the row is outside whatever our error is.
+      undecided = (!u || *u > allowed) && std::abs(v - *r.value) <= allowed + u.value_or(INFINITY);
       in_band = known && known->low && *known->low <= v && v <= *known->high;
       c.ours = fmt(v);
       c.difference = fmt_difference(v - *r.value);
+      c.u_num = u ? fmt_uncertainty(*u) : "not measured";
+      c.u_parts = it->second.u.describe();
+      c.converged_in_h = it->second.converged_in_h;
+      c.how = it->second.how;
       measured = true;
     } else {
       within = it->second.holds.value_or(false);
       in_band = known && !known->ours;  // a claim recorded as not holding for us
       c.ours = within ? "holds" : "does not hold";
+      c.how = it->second.how;
       measured = true;
     }
     if (measured) {
-      if (within) {
+      if (undecided) {
+        c.verdict = Verdict::Unresolved;
+        c.note = it->second.u.total() ? "u_num " + c.u_num + " is larger than the tolerance: our numerics cannot decide"
+                                      : "u_num not measured (its evidence runs are missing): our numerics cannot decide";
+      } else if (within) {
         c.verdict = Verdict::Pass;
         if (known) c.note = "recorded as a deviation, but now within the tolerance: update reference-data/deviations";
       } else if (in_band) {
@@ -162,6 +188,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     if (it != ours.end() && !it->second.note.empty()) c.ours += " (" + it->second.note + ")";
     switch (c.verdict) {
       case Verdict::Pass: ++s.passed; break;
+      case Verdict::Unresolved: ++s.unresolved; break;
       case Verdict::Deviation: ++s.deviations; break;
       case Verdict::Fail: ++s.failed; break;
       case Verdict::NotRun: ++s.not_run; break;
@@ -172,32 +199,42 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
   return s;
 }
 
+// "ours ± u_num" (a number), or ours (a claim, or no u_num).
+std::string ours_with_u(const ComparedRow& c) {
+  if (c.u_num.empty()) return c.ours;
+  const std::size_t paren = c.ours.find(" (");
+  const std::string value = c.ours.substr(0, paren), rest = paren == std::string::npos ? "" : c.ours.substr(paren);
+  return value + " ± " + c.u_num + rest;
+}
+
 void print_comparison(const CheckSummary& s, std::ostream& out, bool md) {
   char line[640];
   if (md) {
-    out << "| quantity | study | ours | ours − study | tolerance | verdict | cause of a deviation, or note | source |\n"
-           "|---|---|---|---|---|---|---|---|\n";
+    out << "| quantity | study | ours ± u_num | ours − study | tolerance | verdict | u_num from | converged in h | how run | cause of a deviation, or note | source |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|\n";
   } else {
-    std::snprintf(line, sizeof line, "%-64s %12s %12s %10s %10s  %s\n", "quantity", "study", "ours", "ours-study", "tolerance", "verdict");
+    std::snprintf(line, sizeof line, "%-60s %12s %12s %9s %10s %10s  %s\n", "quantity", "study", "ours", "± u_num", "ours-study", "tolerance", "verdict");
     out << line;
   }
   for (const ComparedRow& c : s.rows) {
     const ReferenceRow& r = *c.row;
     if (md) {
-      out << "| " << md_cell(r.quantity) << " | " << c.study << " | " << md_cell(c.ours) << " | " << c.difference << " | " << c.tolerance
-          << " | " << (c.verdict == Verdict::Pass || c.verdict == Verdict::Fail || c.verdict == Verdict::Deviation ? "**" : "")
-          << verdict_name(c.verdict)
-          << (c.verdict == Verdict::Pass || c.verdict == Verdict::Fail || c.verdict == Verdict::Deviation ? "**" : "") << " | "
-          << md_cell(c.note) << " | " << md_cell(r.source) << " |\n";
+      const char* b = bold(c.verdict) ? "**" : "";
+      out << "| " << md_cell(r.quantity) << " | " << c.study << " | " << md_cell(ours_with_u(c)) << " | " << c.difference << " | " << c.tolerance
+          << " | " << b << verdict_name(c.verdict) << b << " | " << md_cell(c.u_parts) << " | " << md_cell(c.converged_in_h) << " | "
+          << md_cell(c.how) << " | " << md_cell(c.note) << " | " << md_cell(r.source) << " |\n";
     } else {
-      std::snprintf(line, sizeof line, "%-64.64s %12s %12s %10s %10s  %s\n", r.quantity.c_str(), c.study.c_str(), c.ours.c_str(),
-                    c.difference.c_str(), c.tolerance.c_str(), verdict_name(c.verdict));
+      const std::string value = c.ours.substr(0, c.ours.find(" ("));
+      std::snprintf(line, sizeof line, "%-60.60s %12s %12s %9s %10s %10s  %s\n", r.quantity.c_str(), c.study.c_str(), value.c_str(),
+                    c.u_num.empty() ? "" : ("± " + c.u_num).c_str(), c.difference.c_str(), c.tolerance.c_str(), verdict_name(c.verdict));
       out << line;
       if (!c.note.empty()) out << "    " << (c.verdict == Verdict::Deviation ? "known deviation: " : "") << c.note << "\n";
+      if (!c.u_parts.empty()) out << "    u_num from: " << c.u_parts << "\n";
+      if (!c.how.empty()) out << "    how run: " << c.how << "\n";
     }
   }
-  out << (md ? "\n" : "") << s.passed << " PASS, " << s.deviations << " DEVIATION, " << s.failed << " FAIL, " << s.not_run
-      << " not run\n";
+  out << (md ? "\n" : "") << s.passed << " PASS, " << s.unresolved << " UNRESOLVED, " << s.deviations << " DEVIATION, " << s.failed << " FAIL, "
+      << s.not_run << " not run\n";
 }
 
 CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
@@ -225,43 +262,57 @@ int run_reference_check(const std::string& table, const std::map<std::string, Me
   std::ofstream md(out_dir + "/check.md");
   print_comparison(summary, md, true);
   std::ofstream csv(out_dir + "/check.csv");
-  csv << "id,ours,verdict,note\n";
+  for (std::size_t k = 0; k < kCheckColumns.size(); ++k) csv << (k ? "," : "") << kCheckColumns[k];
+  csv << "\n";
   for (const ComparedRow& c : summary.rows)
-    csv << csv_quote(c.row->id) << "," << csv_quote(c.ours) << "," << verdict_name(c.verdict) << "," << csv_quote(c.note) << "\n";
+    csv << csv_quote(c.row->id) << "," << csv_quote(c.ours) << "," << verdict_name(c.verdict) << "," << csv_quote(c.note) << ","
+        << csv_quote(c.u_num) << "," << csv_quote(c.u_parts) << "," << csv_quote(c.converged_in_h) << "," << csv_quote(c.how) << ","
+        << csv_quote(c.tolerance) << "\n";
   return summary.ok() ? 0 : 1;
 }
 
 void write_study_summary(const std::vector<std::string>& experiments, const std::string& results_dir, std::ostream& out) {
   int numbers = 0, context = 0, claims = 0;
   std::map<Verdict, int> count;
-  std::ostringstream table;
-  table << "| experiment | quantity | study | ours | verdict | source |\n|---|---|---|---|---|---|\n";
+  std::ostringstream table, unresolved;
+  table << "| experiment | quantity | study | ours ± u_num | tolerance | verdict | how run | source |\n|---|---|---|---|---|---|---|---|\n";
   for (const std::string& exp : experiments) {
-    std::map<std::string, std::pair<std::string, std::string>> ours;  // id -> (ours, verdict)
+    struct Ours { std::string ours, verdict, u_num, how, tolerance; };
+    std::map<std::string, Ours> ours;
     const std::string check = results_dir + "/" + exp + "/check.csv";
-    const bool ran = std::filesystem::exists(check);
-    if (ran)
-      for (const CsvRecord& rec : read_csv_table(check, {"id", "ours", "verdict", "note"}))
-        ours[rec.fields[0]] = {rec.fields[1], rec.fields[2]};
+    if (std::filesystem::exists(check))
+      for (const CsvRecord& rec : read_csv_table(check, kCheckColumns)) {
+        const auto& f = rec.fields;
+        ours[f[0]] = {f[1], f[2], f[4], f[7], f[8]};
+      }
     for (const ReferenceRow& r : load_reference_table(reference_table_path(exp))) {
       (r.kind == "number" ? numbers : r.kind == "context" ? context : claims)++;
-      std::string mine = "-", verdict = r.kind == "context" ? "context" : "not run";
-      if (ours.count(r.id)) std::tie(mine, verdict) = ours.at(r.id);
+      Ours o{"-", r.kind == "context" ? "context" : "not run", "", "", ""};
+      if (ours.count(r.id)) o = ours.at(r.id);
       if (r.kind != "context")
-        for (Verdict v : {Verdict::Pass, Verdict::Deviation, Verdict::Fail, Verdict::NotRun})
-          if (verdict == verdict_name(v)) ++count[v];
+        for (Verdict v : {Verdict::Pass, Verdict::Unresolved, Verdict::Deviation, Verdict::Fail, Verdict::NotRun})
+          if (o.verdict == verdict_name(v)) ++count[v];
+      ComparedRow c;
+      c.ours = o.ours;
+      c.u_num = o.u_num;
       const std::string study = study_value(r);
-      const bool bold = verdict == "PASS" || verdict == "DEVIATION" || verdict == "FAIL";
-      table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << md_cell(mine) << " | " << (bold ? "**" : "")
-            << verdict << (bold ? "**" : "") << " | " << md_cell(r.source) << " |\n";
+      const bool b = o.verdict == "PASS" || o.verdict == "DEVIATION" || o.verdict == "FAIL" || o.verdict == "UNRESOLVED";
+      table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << md_cell(ours_with_u(c)) << " | " << o.tolerance
+            << " | " << (b ? "**" : "") << o.verdict << (b ? "**" : "") << " | " << md_cell(o.how) << " | " << md_cell(r.source) << " |\n";
+      if (o.verdict == "UNRESOLVED")
+        unresolved << "- " << exp << ": " << md_cell(r.quantity) << " — study " << study << ", ours " << md_cell(ours_with_u(c).substr(0, ours_with_u(c).find(" ("))) << ", tolerance "
+                   << o.tolerance << "\n";
     }
   }
   out << "The study's published numbers (" << numbers + context << ": " << numbers << " checked, " << context
-      << " printed as context) and claims (" << claims << "): " << count[Verdict::Pass] << " PASS, " << count[Verdict::Deviation]
-      << " DEVIATION, " << count[Verdict::Fail] << " FAIL, " << count[Verdict::NotRun]
-      << " not run. A DEVIATION is a recorded, explained difference (its cause is beside the row in the experiment's "
-         "section); FAIL is a difference nobody explained, or a recorded one that moved.\n\n"
-      << table.str() << "\n";
+      << " printed as context) and claims (" << claims << "): " << count[Verdict::Pass] << " PASS, " << count[Verdict::Unresolved]
+      << " UNRESOLVED, " << count[Verdict::Deviation] << " DEVIATION, " << count[Verdict::Fail] << " FAIL, " << count[Verdict::NotRun]
+      << " not run. PASS: within the study's tolerance, with our numerical uncertainty u_num no larger than it. UNRESOLVED: u_num "
+         "is larger than the tolerance (or not measured) and ours ± u_num reaches the window, so our numerics cannot decide; it "
+         "counts as not reproduced. A DEVIATION is a recorded, explained difference (its cause is beside the row in the "
+         "experiment's section); FAIL is a difference nobody explained, or a recorded one that moved.\n\n";
+  if (count[Verdict::Unresolved] > 0) out << "Not reproduced because our numerics cannot decide (UNRESOLVED):\n\n" << unresolved.str() << "\n";
+  out << table.str() << "\n";
 }
 
 }  // namespace rbc

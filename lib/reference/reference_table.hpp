@@ -3,9 +3,13 @@
 // know and explain (reference-data/deviations/*.csv), and the comparison table an experiment's
 // --check prints: quantity, study, ours, ours − study, tolerance, verdict (SPEC section 6).
 //
-// Verdicts, so that CI can act on the table:
-//   PASS       |ours − study| within the tolerance fixed before the comparison;
-//   DEVIATION  outside it, and recorded as a known deviation whose band holds our value: the
+// Verdicts, so that CI can act on the table (E = ours − study, T the tolerance, u = our
+// numerical uncertainty u_num, reference/uncertainty.hpp):
+//   PASS       |E| ≤ T and u ≤ T: within the tolerance fixed before the comparison, and our
+//              numerics fine enough to say so;
+//   UNRESOLVED u > T (or u not measured) and |E| ≤ T + u: our numerics cannot decide. Counts as
+//              not reproduced; never makes --check fail;
+//   DEVIATION  outside it (by more than u when u > T), and recorded as a known deviation whose band holds our value: the
 //              band is where our own value is expected from its measured h/Δt error or ensemble
 //              spread, not from the distance to the study;
 //   FAIL       outside the tolerance and not recorded, or recorded but outside the recorded band
@@ -18,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "reference/uncertainty.hpp"
+
 namespace rbc {
 
 struct ReferenceRow {
@@ -29,6 +35,9 @@ struct ReferenceRow {
   std::string kind;            // "number", "claim" or "context"
   std::string source, reason;
   std::string value_text;  // the value as the table writes it (the study's digits: 2.710, not 2.71)
+  // The ids of the cases the study tells this one apart from: no window may hold their values
+  // (column apart_from, space-separated; tested over every table).
+  std::vector<std::string> apart_from = {};
 };
 
 // Reads one table; throws std::runtime_error naming the file, line and column on bad input.
@@ -60,20 +69,24 @@ struct Measured {
   std::optional<double> value;
   std::optional<bool> holds;
   std::string note;
+  NumericalUncertainty u = {};  // u_num's parts (numbers)
+  std::string converged_in_h = {};  // what a finer mesh gives (empty: no h refinement)
+  std::string how = {};             // how the row was run: coupling, Δt, pressure form, ...
 };
 
-enum class Verdict { Pass, Deviation, Fail, NotRun, Context };
-const char* verdict_name(Verdict v);  // "PASS", "DEVIATION", "FAIL", "not run", "context"
+enum class Verdict { Pass, Unresolved, Deviation, Fail, NotRun, Context };
+const char* verdict_name(Verdict v);  // "PASS", "UNRESOLVED", "DEVIATION", "FAIL", "not run", "context"
 
 // One row of a comparison, as printed and as written to check.csv for the report's summary.
 struct ComparedRow {
   const ReferenceRow* row = nullptr;
   Verdict verdict = Verdict::NotRun;
   std::string ours, difference, tolerance, study, note;  // formatted; note: the deviation's cause or why it failed
+  std::string u_num, u_parts, converged_in_h, how;          // formatted u_num, its parts, the h column, how run
 };
 
 struct CheckSummary {
-  int passed = 0, deviations = 0, failed = 0, not_run = 0;
+  int passed = 0, unresolved = 0, deviations = 0, failed = 0, not_run = 0;
   std::vector<ComparedRow> rows;
   bool ok() const { return failed == 0; }
 };
