@@ -119,7 +119,7 @@ for exp in "${run_list[@]}"; do
       echo
     fi
     if [ -f "$dir/spread.md" ]; then
-      echo "### The ensemble and the tolerances"
+      echo "### The ensemble, the Δt sequences and the study's differences"
       echo
       cat "$dir/spread.md"
       echo

@@ -227,6 +227,10 @@ TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperiment
                                                               << "hct_s055,6.7733,PASS,,1e-05,,,,0.005 %\n"
                                                               << "hct_s10,12.308,DEVIATION,cause,1e-05,,,,0.005 %\n"
                                                               << "re_s07,0.524,UNRESOLVED,,0.003,,,,0.00025\n";
+  // A section from before issue 40 (old columns, old tolerances): its rows count as not run.
+  std::filesystem::create_directories(dir / "cell_free_layer");
+  std::ofstream(dir / "cell_free_layer" / "check.csv") << "id,ours,verdict,note\n"
+                                                        << "cfl_100,2.448,PASS,\n";
   std::ostringstream out;
   write_study_summary({"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}, dir.string(), out);
   const std::string s = out.str();
@@ -237,6 +241,7 @@ TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperiment
   EXPECT_NE(s.find("Not reproduced because our numerics cannot decide (UNRESOLVED)"), std::string::npos) << s;
   EXPECT_NE(s.find("ours 0.524 ± 0.003, tolerance 0.00025"), std::string::npos) << s;
   EXPECT_NE(s.find("| constriction | mean velocity in the narrow part | 3.33 cm/s | - |  | not run |"), std::string::npos) << s;
+  EXPECT_NE(s.find("2.448 (an older run, judged by the old tolerances: re-run) |  | not run |"), std::string::npos) << s;
 }
 
 TEST(ReferenceData, MalformedTableIsRejectedNamingTheLine) {

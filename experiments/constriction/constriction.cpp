@@ -275,7 +275,8 @@ Results run(const Params& p) {
     s << std::fixed << res.biconcave_end << " of the " << res.wide_cells_end << " cells 10 um or more past the passage at "
       << res.window_end * 1e3 << " ms are biconcave in their own frame (all 12 at t = 0); tilts of their long axes";
     for (double a : res.tilt_end) s << " " << std::setprecision(0) << a;
-    s << " degrees; by the flow-frame descriptor " << res.biconcave_flow_frame_end << " (it calls a tilted one other)";
+    s << " degrees; by the first criterion, the flow-frame descriptor, " << res.biconcave_flow_frame_end << " (it calls a tilted one other): "
+      << (res.wide_cells_end > 0 && res.biconcave_flow_frame_end == res.wide_cells_end ? "holds" : "does not hold");
     if (!p.quick) res.measured["shape_memory"] = {{}, res.wide_cells_end > 0 && res.biconcave_end == res.wide_cells_end, s.str()};
   }
   if (!p.quick && p.convergence) convergence_study(p, res);

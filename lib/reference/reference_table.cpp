@@ -280,11 +280,19 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
     struct Ours { std::string ours, verdict, u_num, how, tolerance; };
     std::map<std::string, Ours> ours;
     const std::string check = results_dir + "/" + exp + "/check.csv";
-    if (std::filesystem::exists(check))
+    std::string header;
+    if (std::filesystem::exists(check)) std::getline(std::ifstream(check) >> std::ws, header);
+    if (header == "id,ours,verdict,note") {
+      // A section written before u_num and the study's tolerances (issue 40): its verdicts were
+      // judged by the old rule, so they count as not run until the experiment runs again.
+      for (const CsvRecord& rec : read_csv_table(check, {"id", "ours", "verdict", "note"}))
+        ours[rec.fields[0]] = {rec.fields[1] + " (an older run, judged by the old tolerances: re-run)", "not run", "", "", ""};
+    } else if (!header.empty()) {
       for (const CsvRecord& rec : read_csv_table(check, kCheckColumns)) {
         const auto& f = rec.fields;
         ours[f[0]] = {f[1], f[2], f[4], f[7], f[8]};
       }
+    }
     for (const ReferenceRow& r : load_reference_table(reference_table_path(exp))) {
       (r.kind == "number" ? numbers : r.kind == "context" ? context : claims)++;
       Ours o{"-", r.kind == "context" ? "context" : "not run", "", "", ""};
