@@ -124,6 +124,14 @@ for exp in "${run_list[@]}"; do
       cat "$dir/spread.md"
       echo
     fi
+    if [ -f "$dir/validation/check.md" ]; then
+      echo "### Our rigid disk against published data"
+      echo
+      echo "One disk at the parameters of Pan & Glowinski (2002), J. Comput. Phys. 181, 260-279 (reference-data/disk_validation.csv; the experiment's README):"
+      echo
+      cat "$dir/validation/check.md"
+      echo
+    fi
     if [ -f "$dir/ensemble.md" ]; then
       echo "### The ensemble of initial arrangements"
       echo

@@ -26,7 +26,7 @@ Measured measured(double v, double u = 0) {
 
 TEST(ReferenceData, EveryTableLoadsAndEveryNumberHasAToleranceAndReason) {
   int numbers = 0;
-  for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}) {
+  for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction", "disk_validation"}) {
     const auto rows = load_reference_table(reference_table_path(name));
     EXPECT_FALSE(rows.empty()) << name;
     for (const auto& r : rows) {

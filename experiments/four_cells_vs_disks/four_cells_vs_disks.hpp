@@ -39,6 +39,8 @@
 //   one_disk_x2_10um.toml, one_disk_x2_20um.toml  (scenes for build/bin/rbcflow run) one disk from
 //                                             either side of its equilibrium, to 400 ms
 //   conv_*                                    error against run time on a 1.2 ms horizon
+//   pg2002_h*_dt*                             one disk against Pan & Glowinski (2002): the
+//                                             validation of our disks over Δt and h
 //
 // Run:  build/bin/four_cells_vs_disks --check            (every case, one after the other)
 //       build/bin/four_cells_vs_disks --list-cases | parallel -j2 build/bin/four_cells_vs_disks --only {} --threads 1
@@ -69,6 +71,10 @@ inline constexpr double kNonCircular = 0.9955;  // below: visibly non-circular (
 inline constexpr double kAlmostCircular = 0.9988;  // above: almost circular (ellipse 1.05)
 // Quick case: h = 0.625 um, 5 ms.
 inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 5e-3;
+// Our disk against published data (one_disk_pan_glowinski_2002.toml, reference-data/disk_validation.csv):
+// the disk's height over the width, averaged over the last kValidationWindow.
+inline constexpr double kValidationWindow = 1e-4;  // s (about 5 W travelled)
+inline const std::string kValidationScene = "one_disk_pan_glowinski_2002.toml";
 // Error against run time: from rest to kConvTime (a whole number of every Δt of the study:
 // 1.2 ms = 100 x 12 us = 48000 x 25 ns, so that all runs compare at the same instant).
 inline constexpr double kConvTime = 1.2e-3;
@@ -81,6 +87,7 @@ struct Case {
   unsigned seed = 0;           // 0: the study's places
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's
   std::string coupling;        // empty: the scene file's
+  std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
 };
 
 struct Params {
@@ -111,7 +118,7 @@ struct CaseResult {
   std::vector<double> t;             // s, the samples
   std::vector<std::array<double, 4>> x, y;  // the bodies' centroids, m
   std::array<double, 4> circularity_end{};  // cells only
-  double distance = 0, reynolds = 0;        // over the last kWindow
+  double distance = 0, reynolds = 0;        // over the last kWindow (validation: the disk's x2 / W over kValidationWindow)
   double distance_early = 0;                // at kEarly (or the end if shorter)
   double stagger = 0;                       // m, at the end
   long contact_steps = 0;                   // disks: steps in which the contact force acted
@@ -120,8 +127,10 @@ struct CaseResult {
 struct Results {
   std::map<std::string, CaseResult> cases;
   std::map<std::string, Measured> measured;       // ids of reference-data/four_cells_vs_disks.csv
+  std::map<std::string, Measured> validation;     // ids of reference-data/disk_validation.csv
   std::map<std::string, Observed> quick_record;
-  std::string spread_md, convergence_md;          // the tolerance evidence and the work-precision table
+  std::string spread_md, convergence_md;          // the u_num evidence and the work-precision table
+  std::string validation_md;                      // the disk against published data
 };
 
 Results run(const Params& p);

@@ -45,7 +45,9 @@ int main(int argc, char** argv) {
     if (!p.only.empty()) return r.cases.begin()->second.failure.empty() ? 0 : 3;
     std::cout << "\n" << r.spread_md;
     const int study = check ? rbc::run_reference_check("four_cells_vs_disks", r.measured, p.out_dir, std::cout, !p.quick) : 0;
-    return std::max(study, rbc::handle_quick_record("four_cells_vs_disks", r.quick_record, p.quick, record, check, p.out_dir, std::cout));
+    // Our disk against published data (reference-data/disk_validation.csv), its own table.
+    const int validation = check && !p.quick ? rbc::run_reference_check("disk_validation", r.validation, p.out_dir + "/validation", std::cout) : 0;
+    return std::max({study, validation, rbc::handle_quick_record("four_cells_vs_disks", r.quick_record, p.quick, record, check, p.out_dir, std::cout)});
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "four_cells_vs_disks: %s; continue with the same command and --resume\n", e.what());
     return 128 + e.signal;
