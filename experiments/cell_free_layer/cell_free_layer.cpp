@@ -517,6 +517,7 @@ Results run(const Params& p) {
     res.measured["hct_" + tag] = {r.hct, {}, note};
     res.measured["hct_" + tag].u.other = "geometry of the prepared cells (round-off)";
     res.measured["hct_" + tag].u.other_value = 0.0;
+    res.measured["hct_" + tag].how = "the prepared cells' areas over L H (geometry)";
     std::snprintf(note, sizeof note, "%s: lower wall %.3f um, upper wall %.3f um, over %.4g-%.4g s; over the run's second half %.3f um; 100/Hct = %.2f um (ours)",
                   reported.c_str(), r.layer_lower * 1e6, r.layer_upper * 1e6, r.t.back() - kWindow, r.t.back(), r.layer_late * 1e6, 100 / r.hct);
     res.measured["cfl_" + tag] = with_uncertainty(p, res, name, reported, false, note);

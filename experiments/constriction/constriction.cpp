@@ -321,6 +321,7 @@ Results run(const Params& p) {
     Measured& m = res.measured["hct"];
     m.u.other = "geometry of the prepared cells (round-off)";
     m.u.other_value = 0.0;
+    m.how = "the prepared cells' areas over the fluid area (geometry)";
   }
   if (p.quick) {
     res.quick_record["u_wide"] = {"mean velocity, wide part, 1-2 ms", "cm/s", res.u_wide * 100};
