@@ -2,6 +2,8 @@
 // committed regression record, the scenes it builds, and its cases run through GNU parallel.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -21,9 +23,21 @@ using namespace four_cells_vs_disks;
 TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   Params p;
   const auto all = cases(p);
-  int study = 0;
+  int study = 0, validation = 0;
+  std::set<std::string> names;
+  for (const Case& c : all) names.insert(c.name);
   for (const Case& c : all) {
     const Scene s = case_scene(c, false);
+    if (c.role == "validation") {  // one disk, d = W/4 at 0.4 W in a channel W x W (Pan & Glowinski 2002)
+      ++validation;
+      ASSERT_EQ(s.disks.size(), 1u) << c.name;
+      EXPECT_TRUE(s.cells.empty()) << c.name;
+      EXPECT_DOUBLE_EQ(s.disks[0].radius, s.height / 8) << c.name;
+      EXPECT_DOUBLE_EQ(s.disks[0].center.y(), 0.4 * s.height) << c.name;
+      EXPECT_DOUBLE_EQ(s.length, s.height) << c.name;
+      EXPECT_EQ(s.dt, c.dt) << c.name;
+      continue;
+    }
     EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
     EXPECT_TRUE(s.cells.empty() || s.disks.empty()) << c.name;  // a scene builds only what it uses
     EXPECT_EQ(s.projection, "study") << c.name;                  // disks need the study's form
@@ -38,6 +52,10 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
     }
   }
   EXPECT_EQ(study, 6);
+  EXPECT_EQ(validation, 6);
+  // Every study case has its Δt sequence (u_num's Δt part, issue 40): 6, 3 and 1.5 us.
+  for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"})
+    for (const char* suffix : {"", "_dt3us", "_dt1.5us"}) EXPECT_TRUE(names.count(std::string(base) + suffix)) << base << suffix;
   // A perturbed start moves every centre, by at most kPerturbation in each direction.
   Case c;
   c.name = "kb1_seed1";
