@@ -82,6 +82,12 @@ TEST(ReferenceData, UnresolvedWhenOurUncertaintyIsLargerThanTheToleranceAndReach
   s = compare_with_reference(rows, with_u(9.25, std::nullopt), {}, true);
   EXPECT_EQ(s.unresolved, 1);
   EXPECT_EQ(s.rows[0].u_num, "not measured");
+  // Parts of u_num whose evidence runs are missing: it cannot clear the row either.
+  auto partial = with_u(9.25, 0.01);
+  partial["d"].u.missing = "the Δt sequence";
+  s = compare_with_reference(rows, partial, {}, true);
+  EXPECT_EQ(s.unresolved, 1);
+  EXPECT_EQ(s.rows[0].u_num, "0.01 (incomplete)");
 }
 
 TEST(Uncertainty, GridConvergenceIndexFindsTheOrderAndTheLimitOfAFirstOrderSequence) {

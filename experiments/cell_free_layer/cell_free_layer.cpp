@@ -467,6 +467,8 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
   if (ok(base) && ok(base + "_dt1.5us")) {
     m.u.dt = grid_convergence_index({value(res.cases.at(base + "_dt1.5us")), value(res.cases.at(base))}, 2.0, 1.0);
     m.u.dt->label = "dt 1.5/3 us";
+  } else {
+    m.u.missing = "the Δt-halved run";
   }
   std::vector<double> members;
   if (ok(base)) members.push_back(value(res.cases.at(base)));
@@ -476,6 +478,9 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
     m.u.ensemble = sample_std(members);
     m.u.members = members.size();
   }
+  if (members.size() < p.seeds.size() + 1)
+    m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the arrangements (" + std::to_string(members.size()) + " of " +
+                   std::to_string(p.seeds.size() + 1) + ")";
   std::vector<double> v(r.t.size());
   for (std::size_t k = 0; k < r.t.size(); ++k) v[k] = re ? r.reynolds[k] : 0.5 * (r.gap_lower[k] + r.gap_upper[k]) * 1e6;
   m.u.window = window_noise(r.t, v, kWindow, 5);

@@ -306,6 +306,8 @@ Results run(const Params& p) {
         RefinementUncertainty d = *dt_rel;
         d.u *= *m.value;
         m.u.dt = d;
+      } else {
+        m.u.missing = "the convergence runs' Δt sequence";
       }
       char how[240];
       std::snprintf(how, sizeof how, "%s coupling%s, dt = %g us, h = %g um; incremental pressure form (not the study's); area term (7) during the flow",

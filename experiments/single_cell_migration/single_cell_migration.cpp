@@ -202,6 +202,7 @@ NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double 
       }
     }
   }
+  if (!u.dt) u.missing = "the Δt pair at h = 0.25 um";
   const std::string series = (fs::path(p.out_dir) / ("narrow_" + p.membrane.units + "_" + tag(s)) / "series.csv").string();
   if (fs::exists(series)) u.window = window_noise(csv_column(series, "t"), csv_column(series, "reynolds"), p.sample_every, 5);
   (void)row;

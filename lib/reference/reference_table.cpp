@@ -144,7 +144,8 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     } else if (r.kind == "number") {
       const double v = it->second.value.value_or(NAN);
       const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
-      const std::optional<double> u = it->second.u.total();
+      // An incomplete u_num (evidence runs missing) cannot clear a row: it counts as not measured.
+      const std::optional<double> u = it->second.u.missing.empty() ? it->second.u.total() : std::nullopt;
       within = std::abs(v - *r.value) <= allowed;
       // Our numerics cannot decide: u_num above the tolerance (or unmeasured), and ours ± u_num
       // reaches into the window. Farther out, the row is outside whatever our error is.
@@ -152,7 +153,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       in_band = known && known->low && *known->low <= v && v <= *known->high;
       c.ours = fmt(v);
       c.difference = fmt_difference(v - *r.value);
-      c.u_num = u ? fmt_uncertainty(*u) : "not measured";
+      c.u_num = u ? fmt_uncertainty(*u) : it->second.u.total() ? fmt_uncertainty(*it->second.u.total()) + " (incomplete)" : "not measured";
       c.u_parts = it->second.u.describe();
       c.converged_in_h = it->second.converged_in_h;
       c.how = it->second.how;
@@ -167,8 +168,10 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     if (measured) {
       if (undecided) {
         c.verdict = Verdict::Unresolved;
-        c.note = it->second.u.total() ? "u_num " + c.u_num + " is larger than the tolerance: our numerics cannot decide"
-                                      : "u_num not measured (its evidence runs are missing): our numerics cannot decide";
+        const bool complete = it->second.u.missing.empty() && it->second.u.total();
+        c.note = complete ? "u_num " + c.u_num + " is larger than the tolerance: our numerics cannot decide"
+                          : "u_num not measured (evidence runs missing: " + (it->second.u.missing.empty() ? std::string("all") : it->second.u.missing) +
+                         "): our numerics cannot decide";
       } else if (within) {
         c.verdict = Verdict::Pass;
         if (known) c.note = "recorded as a deviation, but now within the tolerance: update reference-data/deviations";

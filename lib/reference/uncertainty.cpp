@@ -102,6 +102,7 @@ std::string NumericalUncertainty::describe(int digits) const {
   if (dt) part(dt->describe(digits));
   if (ensemble && std::isfinite(*ensemble)) part(std::string("ensemble of ").append(std::to_string(members)).append(": s ").append(g(*ensemble, digits)));
   if (window && std::isfinite(*window)) part(std::string("window noise ").append(g(*window, digits)));
+  if (!missing.empty()) part("missing: " + missing);
   if (!other.empty()) {
     std::string o = other;
     if (other_value && std::isfinite(*other_value)) o.append(" ").append(g(*other_value, digits));

@@ -57,6 +57,8 @@ struct NumericalUncertainty {
   std::optional<double> window;    // the averaging window's noise
   std::string other;               // a part named in words (e.g. "area drift 0.0003 %")
   std::optional<double> other_value;
+  std::string missing;             // parts whose evidence runs did not finish: u_num is incomplete
+                                   // and the verdict treats it as not measured
   // sqrt of the sum of the squares of the parts measured; empty when none is.
   std::optional<double> total() const;
   std::string describe(int digits = 2) const;
