@@ -40,8 +40,9 @@ int main(int argc, char** argv) {
     const auto r = rbc::four_cells_vs_disks::run(p);
     for (const auto& [name, c] : r.cases)
       if (c.spec.role == "study" || c.spec.role == "ensemble" || !p.only.empty())
-        std::printf("four_cells_vs_disks %-12s %6ld steps, %7.1f s wall; distance %.3f um, Re %.4f%s%s\n", name.c_str(), c.summary.steps,
-                    c.summary.wall_seconds, c.distance * 1e6, c.reynolds, c.failure.empty() ? "" : "; STOPPED: ", c.failure.c_str());
+        std::printf("four_cells_vs_disks %-12s %6ld steps, %7.1f s wall; %s %.4f%s, Re %.4f%s%s\n", name.c_str(), c.summary.steps,
+                    c.summary.wall_seconds, c.spec.role == "validation" ? "x2 / W" : "distance", c.distance * (c.spec.role == "validation" ? 1.0 : 1e6),
+                    c.spec.role == "validation" ? "" : " um", c.reynolds, c.failure.empty() ? "" : "; STOPPED: ", c.failure.c_str());
     if (!p.only.empty()) return r.cases.begin()->second.failure.empty() ? 0 : 3;
     std::cout << "\n" << r.spread_md;
     const int study = check ? rbc::run_reference_check("four_cells_vs_disks", r.measured, p.out_dir, std::cout, !p.quick) : 0;
