@@ -235,8 +235,8 @@ TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperiment
                                                               << "re_s07,0.524,UNRESOLVED,,0.003,,,,0.00025\n";
   // A section from before issue 40 (old columns, old tolerances): its rows count as not run.
   std::filesystem::create_directories(dir / "cell_free_layer");
-  std::ofstream(dir / "cell_free_layer" / "check.csv") << "id,ours,verdict,note\n"
-                                                        << "cfl_100,2.448,PASS,\n";
+  std::ofstream(dir / "cell_free_layer" / "check.csv") << "id,ours,verdict,note\r\n"
+                                                        << "cfl_100,2.448,PASS,\r\n";
   std::ostringstream out;
   write_study_summary({"single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}, dir.string(), out);
   const std::string s = out.str();

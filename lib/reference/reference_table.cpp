@@ -285,6 +285,7 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
     const std::string check = results_dir + "/" + exp + "/check.csv";
     std::string header;
     if (std::filesystem::exists(check)) std::getline(std::ifstream(check) >> std::ws, header);
+    if (!header.empty() && header.back() == '\r') header.pop_back();  // CSV records end in CRLF
     if (header == "id,ours,verdict,note") {
       // A section written before u_num and the study's tolerances (issue 40): its verdicts were
       // judged by the old rule, so they count as not run until the experiment runs again.
