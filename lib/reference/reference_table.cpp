@@ -290,7 +290,8 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
       // A section written before u_num and the study's tolerances (issue 40): its verdicts were
       // judged by the old rule, so they count as not run until the experiment runs again.
       for (const CsvRecord& rec : read_csv_table(check, {"id", "ours", "verdict", "note"}))
-        ours[rec.fields[0]] = {rec.fields[1] + " (an older run, judged by the old tolerances: re-run)", "not run", "", "", ""};
+        ours[rec.fields[0]] = rec.fields[2] == "context" ? Ours{"-", "context", "", "", ""}
+                                                         : Ours{rec.fields[1] + " (an older run, judged by the old tolerances: re-run)", "not run", "", "", ""};
     } else if (!header.empty()) {
       for (const CsvRecord& rec : read_csv_table(check, kCheckColumns)) {
         const auto& f = rec.fields;
