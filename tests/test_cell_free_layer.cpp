@@ -134,9 +134,9 @@ TEST(CellFreeLayerExperiment, HematocritProfileOfKnownCirclesIsTheirChords) {
   fs::remove(f);
 }
 
-// The ensemble table's tolerance is the README's rule, 2 s + |Δt/2 change| + |2h change|/3, and
-// is printed only once all three arrangements and both evidence runs are in.
-TEST(CellFreeLayerExperiment, EnsembleTableAppliesTheToleranceRule) {
+// The ensemble table shows every row over the arrangements with its spread and the evidence runs'
+// changes (u_num's parts); no tolerance of ours (they come from the study alone).
+TEST(CellFreeLayerExperiment, EnsembleTableShowsTheSpreadAndTheEvidenceRunsChanges) {
   Params p;
   Results res;
   auto put = [&](const std::string& name, double layer_um, double re) {
@@ -148,25 +148,15 @@ TEST(CellFreeLayerExperiment, EnsembleTableAppliesTheToleranceRule) {
   };
   put("n50", 5.0, 2.30);
   put("n50_seed2", 5.4, 2.32);
-  auto layer_row = [&] {
-    const std::string md = ensemble_table(p, res);
-    const auto at = md.find("| 50 cells: cell-free layer, mean of the walls (um) |");
-    EXPECT_NE(at, std::string::npos) << md;
-    const std::string row = md.substr(at, md.find('\n', at) - at);
-    return row.substr(row.rfind('|', row.size() - 2) + 2);  // the last cell
-  };
-  EXPECT_EQ(layer_row(), "- |");  // seed 3 and the evidence runs missing
   put("n50_seed3", 4.6, 2.28);
   put("n50_dt1.5us", 5.3, 2.31);
-  EXPECT_EQ(layer_row(), "- |");  // the 2h run missing
   put("n50_h0.625um", 4.1, 2.10);
-  // s of {5.0, 5.4, 4.6} = 0.4; 2 * 0.4 + 0.3 + 0.9 / 3 = 1.4.
-  EXPECT_EQ(layer_row(), "1.4 |");
-  // The study's pressure form's change is shown beside the Δt change and kept out of the rule.
   put("n50_study_pressure", 5.8, 2.30);
-  EXPECT_EQ(layer_row(), "1.4 |");
-  EXPECT_NE(ensemble_table(p, res).find("| 5 | 5.4 4.6 | 5 | 0.4 | +0.3 | +0.8 | - | -0.9 | - | 1.4 |"), std::string::npos) << ensemble_table(p, res);
-  EXPECT_NE(ensemble_table(p, res).find("| 50 cells: Hct (%) |"), std::string::npos);
+  // s of {5.0, 5.4, 4.6} = 0.4; the changes against seed 1; the missing runs as "-".
+  const std::string md = ensemble_table(p, res);
+  EXPECT_NE(md.find("| 50 cells: cell-free layer, mean of the walls (um) | 5 | 5.4 4.6 | 5 | 0.4 | +0.3 | +0.8 | - | -0.9 | - |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| 50 cells: Hct (%) |"), std::string::npos);
+  EXPECT_EQ(md.find("tolerance by the rule"), std::string::npos);
 }
 
 // The early-layer table averages the two walls' gaps over its windows, leaves out runs that
