@@ -296,13 +296,6 @@ CaseResult run_case(const Params& p, const Case& c) {
 }
 
 double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); }
-double sample_sd(const std::vector<double>& v) {
-  if (v.size() < 2) return NAN;
-  const double m = mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / (v.size() - 1));
-}
 
 // A table cell: x in the printf format, "-" for NaN (the run is missing or stopped).
 std::string shown(double x, const char* format) {
@@ -352,7 +345,7 @@ std::string ensemble_table(const Params& p, const Results& res) {
       auto change = [&](const std::string& name) { return ok(name) ? res.cases.at(name).*q.field * q.scale - v[0] : NAN; };
       char row[700];
       std::snprintf(row, sizeof row, "| %d cells: %s | %.4g |%s | %.4g | %s | %s | %s | %s | %s | %s |\n", n, q.label, v[0], others.c_str(),
-                    mean(v), shown(sample_sd(v), "%.3g").c_str(), shown(change(base + "_dt1.5us"), "%+.3g").c_str(),
+                    mean(v), shown(sample_std(v), "%.3g").c_str(), shown(change(base + "_dt1.5us"), "%+.3g").c_str(),
                     shown(change(base + "_study_pressure"), "%+.3g").c_str(),
                     shown(change(base + "_wide_gaps"), "%+.3g").c_str(),
                     shown(change(base + "_h0.625um"), "%+.3g").c_str(), shown(change(base + "_repulsion"), "%+.3g").c_str());

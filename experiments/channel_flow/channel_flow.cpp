@@ -73,24 +73,21 @@ Results run(const Params& p) {
     // the start-up not yet finished (the exact mean's distance to its steady value); the mesh
     // apart: h -> 0 gives U0 itself (the P1 mean is U0 (1 - h²/H²)).
     const double exact_end = startup_mean(u0, nu, H, t.size() > 1 ? t[t.size() - 2] : t.back(), t.back()) * p1;
-    NumericalUncertainty u;
-    u.other_value = std::abs(U.back() - exact_end);
-    u.other = "time stepping against the exact start-up";
-    u.window = std::abs(u0 * p1 - exact_end);
+    // The same two parts in each row's unit: scale 100 gives cm/s, rho H / mu gives Re.
+    auto parts = [&](double scale) {
+      NumericalUncertainty u;
+      u.other = "time stepping against the exact start-up";
+      u.other_value = std::abs(U.back() - exact_end) * scale;
+      u.window = std::abs(u0 * p1 - exact_end) * scale;
+      return u;
+    };
+    const double per = r.summary.reynolds / r.summary.mean_velocity;  // Re per m/s
     char how[160], conv[160];
     std::snprintf(how, sizeof how, "cell-free; h = %g um, dt = %g s to %g ms", scene.mesh_size * 1e6, scene.dt, t.back() * 1e3);
     std::snprintf(conv, sizeof conv, "%.6g (h -> 0: U0; the P1 mean is U0 (1 - h^2/H^2), %+.2g %%)", u0 * 100, -100 * std::pow(scene.mesh_size / H, 2));
-    res.measured[which + "_mean_velocity"] = {r.summary.mean_velocity * 100.0, {}, "", u, conv, how};  // cm/s
-    NumericalUncertainty ure = u;  // the same parts in Re = rho U H / mu
-    const double per = r.summary.reynolds / r.summary.mean_velocity;
-    ure.other_value = *u.other_value * per;
-    ure.window = *u.window * per;
-    ure.other = "time stepping against the exact start-up";
+    res.measured[which + "_mean_velocity"] = {r.summary.mean_velocity * 100.0, {}, "", parts(100.0), conv, how};  // cm/s
     std::snprintf(conv, sizeof conv, "%.6g (h -> 0)", u0 * per);
-    res.measured[which + "_reynolds"] = {r.summary.reynolds, {}, "", ure, conv, how};
-    u.other_value = *u.other_value * 100;  // cm/s
-    u.window = *u.window * 100;
-    res.measured[which + "_mean_velocity"].u = u;
+    res.measured[which + "_reynolds"] = {r.summary.reynolds, {}, "", parts(per), conv, how};
     res.channels[which] = r;
   }
   return res;

@@ -405,6 +405,12 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
 // differences, each with its own u_num (the Δt part from the difference at each common Δt, so
 // that errors shared by the two runs cancel; the two windows' noise; the start spread of each,
 // as the cases have no paired ensembles).
+// The row run() measured for a case (its u_num's parts), or an empty one.
+Measured row_of(const Results& res, const std::string& base, bool re) {
+  const auto it = res.measured.find((re ? "re_" : "dist_") + base);
+  return it == res.measured.end() ? Measured{} : it->second;
+}
+
 std::string spread_table(const Params& p, const Results& res) {
   std::ostringstream md;
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
@@ -444,7 +450,7 @@ std::string spread_table(const Params& p, const Results& res) {
         if (k < levels.size() && ok(levels[k])) std::snprintf(b, sizeof b, " %.4f |", row_value(res.cases.at(levels[k]), re));
         md << b;
       }
-      const Measured m = ok(reported_case(res, base)) ? row_with_uncertainty(p, res, base, re, "") : Measured{};
+      const Measured m = row_of(res, base, re);
       char limit[32];
       if (m.u.dt) std::snprintf(limit, sizeof limit, "%.4f", m.u.dt->extrapolated);
       if (m.u.dt)
@@ -480,7 +486,7 @@ std::string spread_table(const Params& p, const Results& res) {
     if (seq.empty() || !study.count(id_a) || !study.count(id_b)) continue;
     NumericalUncertainty u;
     if (seq.size() >= 2) u.dt = grid_convergence_index(seq, 2.0, 1.0);
-    const Measured ma = row_with_uncertainty(p, res, pr.a, pr.re, ""), mb = row_with_uncertainty(p, res, pr.b, pr.re, "");
+    const Measured ma = row_of(res, pr.a, pr.re), mb = row_of(res, pr.b, pr.re);
     auto sq = [](std::optional<double> x) { return x && std::isfinite(*x) ? *x * *x : 0.0; };
     u.window = std::sqrt(sq(ma.u.window) + sq(mb.u.window));
     if (ma.u.ensemble || mb.u.ensemble) u.ensemble = std::sqrt(sq(ma.u.ensemble) + sq(mb.u.ensemble));

@@ -181,7 +181,7 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
 // u_num of a Re row (issue 40): the Δt part from the two Δt of the finest h of the Re evidence
 // runs (a proxy: the row's own h has one Δt; two levels, so Fs = 3), and the window's part (the
 // row averages the last sample interval: the spread of the last 5 such means).
-NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double s, const Case& row) {
+NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double s) {
   NumericalUncertainty u;
   auto re_of = [&](const std::string& name) -> double {
     const auto it = res.cases.find(name);
@@ -205,7 +205,6 @@ NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double 
   if (!u.dt) u.missing = "the Δt pair at h = 0.25 um";
   const std::string series = (fs::path(p.out_dir) / ("narrow_" + p.membrane.units + "_" + tag(s)) / "series.csv").string();
   if (fs::exists(series)) u.window = window_noise(csv_column(series, "t"), csv_column(series, "reynolds"), p.sample_every, 5);
-  (void)row;
   return u;
 }
 
@@ -483,7 +482,7 @@ Results run(const Params& p) {
     }
     if (!p.quick) {
       res.measured["re_" + id] = {c.summary.reynolds, {}, ""};
-      res.measured["re_" + id].u = re_uncertainty(p, res, s, c);
+      res.measured["re_" + id].u = re_uncertainty(p, res, s);
       res.measured["re_" + id].converged_in_h = re_converged_in_h(p, res, s);
       char how[200];
       std::snprintf(how, sizeof how, "explicit coupling (the study's), h = %g um, dt = %g s; study's pressure form; area term (7) during the flow",
