@@ -97,6 +97,19 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
   EXPECT_DOUBLE_EQ(s.repulsion_range, kRepulsionRangeCells * kQuickMesh);
 }
 
+// make reproduce runs --study-only: the runs the rows report (Δt halved), none of the evidence.
+TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRuns) {
+  Params p;
+  p.study_only = true;
+  std::vector<std::string> names;
+  for (const Case& c : cases(p)) names.push_back(c.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"n100_dt1.5us", "n50_dt1.5us"}));
+  Params quick;
+  quick.quick = true;
+  quick.study_only = true;
+  EXPECT_EQ(cases(quick).size(), 2u);
+}
+
 TEST(CellFreeLayerExperiment, HematocritProfileOfKnownCirclesIsTheirChords) {
   // Two circles of radius R at heights 10 and 30 um in a 100 x 50 um channel, in two snapshots
   // (one before the window, which must not count).

@@ -20,6 +20,24 @@ namespace {
 namespace fs = std::filesystem;
 using namespace four_cells_vs_disks;
 
+// make reproduce runs --study-only: each case's finest Δt run, the one its rows and figures read
+// (the quick parameters keep their cases).
+TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesFinestDtRun) {
+  Params p;
+  p.study_only = true;
+  std::set<std::string> names;
+  for (const Case& c : cases(p)) {
+    names.insert(c.name);
+    EXPECT_TRUE(c.reported) << c.name;
+  }
+  EXPECT_EQ(names, (std::set<std::string>{"kb1_dt1.5us", "kb10_dt1.5us", "kb100_dt1.5us", "kb1000_dt0.75us", "s07_dt1.5us", "disks_dt1.5us"}));
+  Params quick;
+  quick.quick = true;
+  const auto all_quick = cases(quick);
+  quick.study_only = true;
+  EXPECT_EQ(cases(quick).size(), all_quick.size());
+}
+
 TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   Params p;
   const auto all = cases(p);

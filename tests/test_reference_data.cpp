@@ -9,6 +9,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "reference/recorded_uncertainty.hpp"
 #include "reference/reference_table.hpp"
 #include "reference/regression_record.hpp"
 #include "channel_flow/channel_flow.hpp"
@@ -195,6 +196,52 @@ TEST(ReferenceData, EveryKnownDeviationNamesARowItsValueLiesInItsBandAndItHasCau
         const double allowed = row->tolerance_type == "rel" ? row->tolerance * std::abs(*row->value) : row->tolerance;
         EXPECT_GT(std::abs(*d.ours - *row->value), allowed) << name << ": " << id;
       }
+    }
+  }
+}
+
+TEST(RecordedUncertainty, EvidenceRunsWriteTheCompleteRowsAndTheStudysRunsTakeThemBack) {
+  // make evidence: rows with a complete u_num are written; an incomplete one and a claim are not.
+  std::map<std::string, Measured> evidence = {{"a", measured(9.2, 0.13)}, {"b", measured(0.52, 0.002)}, {"c", measured(1.0, 0.5)}};
+  evidence["a"].converged_in_h = "h -> 0 gives 9.1";
+  evidence["c"].u.missing = "the ensemble";
+  evidence["claim"] = Measured{std::nullopt, true, ""};
+  const auto path = (std::filesystem::temp_directory_path() / "rbcflow_uncertainty.csv").string();
+  write_measured_uncertainty(evidence, path);
+  auto record = load_recorded_uncertainty(path);
+  ASSERT_EQ(record.size(), 2u);
+  EXPECT_NEAR(record.at("a").u_num, 0.13, 1e-12);
+  EXPECT_EQ(record.at("a").converged_in_h, "h -> 0 gives 9.1");
+  record.at("a").commit = "abc1234";
+  // make reproduce: the study's run alone (u incomplete) takes the record; a row measured in full
+  // keeps its own; a row the record lacks stays unmeasured.
+  std::map<std::string, Measured> study = {{"a", measured(9.25, 0.01)}, {"b", measured(0.53, 0.004)}, {"c", measured(1.1, 0.01)}};
+  study["a"].u.missing = "the Δt sequence";
+  study["c"].u.missing = "the ensemble";
+  EXPECT_EQ(apply_recorded_uncertainty(study, record), 1);
+  EXPECT_NEAR(*study.at("a").u.total(), 0.13, 1e-12);
+  EXPECT_TRUE(study.at("a").u.missing.empty());
+  EXPECT_NE(study.at("a").u.describe().find("abc1234"), std::string::npos) << study.at("a").u.describe();
+  EXPECT_EQ(study.at("a").converged_in_h, "h -> 0 gives 9.1");
+  EXPECT_NEAR(*study.at("b").u.total(), 0.004, 1e-12);
+  EXPECT_FALSE(study.at("c").u.missing.empty());
+}
+
+TEST(RecordedUncertainty, BadRecordIsRejectedNamingTheLineAndEveryCommittedRecordNamesRowsOfItsTable) {
+  const auto path = (std::filesystem::temp_directory_path() / "rbcflow_bad_uncertainty.csv").string();
+  std::ofstream(path) << "id,u_num,u_parts,converged_in_h,commit,code\n" << "a,-0.1,,,,\n";
+  try {
+    load_recorded_uncertainty(path);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+  }
+  for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction", "disk_validation"}) {
+    const auto rows = load_reference_table(reference_table_path(name));
+    for (const auto& [id, r] : load_recorded_uncertainty(recorded_uncertainty_path(name))) {
+      EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const ReferenceRow& row) { return row.id == id; }))
+          << recorded_uncertainty_path(name) << ": '" << id << "' is not a row of " << name;
+      EXPECT_FALSE(r.commit.empty()) << recorded_uncertainty_path(name) << ": '" << id << "' names no commit";
     }
   }
 }

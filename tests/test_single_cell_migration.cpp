@@ -3,6 +3,7 @@
 // with the study is `build/bin/single_cell_migration --check` (make reproduce).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -12,6 +13,15 @@
 
 namespace rbc {
 namespace {
+
+// make reproduce runs --study-only: the narrow and wide channels under the chosen reading.
+TEST(SingleCellMigrationExperiment, StudyOnlyIsTheNarrowAndWideRuns) {
+  single_cell_migration::Params p;
+  p.study_only = true;
+  auto names = single_cell_migration::case_names(p);
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"narrow_si_s055", "narrow_si_s070", "narrow_si_s100", "wide_si_s055", "wide_si_s070", "wide_si_s100"}));
+}
 
 TEST(SingleCellMigrationExperiment, QuickRunMigratesTowardTheCentrelineAndDeformsAsTheStudyDescribes) {
   auto p = single_cell_migration::Params::quick_params();

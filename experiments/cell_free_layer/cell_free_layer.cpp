@@ -129,12 +129,15 @@ std::vector<Case> cases(const Params& p) {
   // The longest first (GNU parallel starts them in this order): Δt halved, the study's form of the
   // pressure (the cause of the deviation the experiment had in it: README.md, Deviations), then
   // 100 cells, 50.
-  if (p.evidence && !p.quick) {
+  if ((p.evidence || p.study_only) && !p.quick) {
     for (int n : {100, 50}) {
       Case c = make(base_name(n) + "_dt1.5us", "evidence", n, 1);
       c.dt = 1.5e-6;
+      c.reported = true;  // the rows report the finest Δt (run())
       v.push_back(c);
     }
+  }
+  if (p.evidence && !p.quick) {
     for (int n : {100, 50}) {  // the study's pressure splitting at our step (README.md, Deviations)
       Case c = make(base_name(n) + "_study_pressure", "evidence", n, 1);
       c.projection = "study";
@@ -203,6 +206,8 @@ std::vector<Case> cases(const Params& p) {
         v.push_back(c);
       }
   }
+  if (p.quick) for (Case& c : v) c.reported = c.role == "study";
+  if (p.study_only && !p.quick) std::erase_if(v, [](const Case& c) { return !c.reported; });
   return v;
 }
 
@@ -494,14 +499,14 @@ Results run(const Params& p) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   for (int n : {50, 100}) {
     const std::string name = base_name(n), tag = std::to_string(n);
-    if (!ok(name)) {
-      const std::string why = res.cases.count(name) ? "run stopped: " + res.cases.at(name).failure : "not run";
+    // The row reports the finest Δt that finished (issue 40): the halved run or the scene's 3 us.
+    const std::string reported = ok(name + "_dt1.5us") ? name + "_dt1.5us" : name;
+    if (!ok(reported)) {
+      const std::string why = res.cases.count(reported) ? "run stopped: " + res.cases.at(reported).failure : "not run";
       for (const char* id : {"hct_", "cfl_", "re_"}) res.measured[id + tag] = {{}, {}, why};
       continue;
     }
     if (p.quick) continue;  // the quick case has its own record (below)
-    // The row reports the finest Δt that finished (issue 40): the scene's 3 us or the halved run.
-    const std::string reported = ok(name + "_dt1.5us") ? name + "_dt1.5us" : name;
     const CaseResult& r = res.cases.at(reported);
     char note[300];
     std::snprintf(note, sizeof note, "%s, over %.4g-%.4g s", reported.c_str(), r.t.back() - kWindow, r.t.back());
@@ -514,11 +519,15 @@ Results run(const Params& p) {
     res.measured["cfl_" + tag] = with_uncertainty(p, res, name, reported, false, note);
     res.measured["re_" + tag] = with_uncertainty(p, res, name, reported, true, reported + ", mean over the last ms");
   }
-  if (!p.quick) {  // the quick run has one arrangement and no evidence runs
+  {  // The runs the figures draw: each row's reported run (plot.gp).
+    std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");
+    for (int n : {50, 100}) f << base_name(n) << " " << (ok(base_name(n) + "_dt1.5us") ? base_name(n) + "_dt1.5us" : base_name(n)) << "\n";
+  }
+  if (!p.quick && !p.study_only) {  // the quick run has one arrangement and no evidence runs
     res.ensemble_md = ensemble_table(p, res) + early_layer_table(res);
     std::ofstream(fs::path(p.out_dir) / "ensemble.md") << res.ensemble_md;
   }
-  if (p.convergence && !p.quick) {
+  if (p.convergence && !p.quick && !p.study_only) {
     res.convergence_md = convergence_table(p, res);
     std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_md;
   }

@@ -109,6 +109,7 @@ struct Case {
   std::string coupling;           // "explicit" or "semi-implicit"; empty: the scene file's
   double margin = 0;              // m: the lattice's rows kept this far in from each wall (arrangement())
   std::string projection;         // "study" or "incremental" (ChannelFlowParams); empty: the scene file's
+  bool reported = false;          // the run the study's rows and figures read (the finest Δt)
 };
 
 struct Params {
@@ -123,6 +124,9 @@ struct Params {
   std::vector<unsigned> seeds = {2, 3};  // the ensemble besides the study's seed 1
   bool evidence = true;
   bool convergence = true;  // the 1.2 ms error-against-run-time runs
+  // The reported runs only, none of the evidence (make reproduce: u_num as recorded by make
+  // evidence, reference/recorded_uncertainty.hpp). The quick parameters ignore it.
+  bool study_only = false;
 };
 
 // The cells' centres of an arrangement of n cells (m), in the channel L x H, the lattice's rows

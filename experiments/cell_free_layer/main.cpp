@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   app.add_flag("--resume", p.resume, "continue cases stopped by SIGINT/SIGTERM from their checkpoints");
   app.add_flag("--reuse", p.reuse, "read the cases finished in the output folder instead of running them again");
   app.add_flag("--collect", p.collect, "read back the cases finished in the output folder and run none (a sweep still going: the table so far)");
+  app.add_flag("--study-only", p.study_only,
+               "the runs the study's rows report (dt = 1.5 us), no evidence runs: u_num as recorded in reference-data/uncertainty/ (make reproduce)");
   app.add_flag("--no-evidence", no_evidence, "skip the runs with dt halved and h doubled");
   app.add_flag("--no-convergence", no_convergence, "skip the 1.2 ms error-against-run-time runs");
   app.add_flag("--record-regression", record,

@@ -7,13 +7,15 @@ wrap(x) = x - L*floor(x/L)
 # The index (0-based) of the snapshot nearest to t ms in a snapshots.dat (one block per '# t =').
 index_at(f, t) = int(system(sprintf("awk '/^# t =/{d=$4*1e3-%g; if(d<0)d=-d; if(n==0||d<best){best=d; k=n}; n++} END{print k+0}' %s", t, f)))
 time_at(f, k) = real(system(sprintf("awk '/^# t =/{if(n==%d)print $4*1e3; n++}' %s", k, f)))
-last_time(c) = real(system(sprintf("tail -1 %s/layer_%s.dat | awk '{print $1}'", dir, c)))
+# Each row's reported run: its finest Δt (figure_runs.txt, written by --check).
+run(c) = system(sprintf("awk -v c=%s '$1 == c {print $2}' %s/figure_runs.txt 2>/dev/null | grep . || echo %s", c, dir, c))
+last_time(c) = real(system(sprintf("tail -1 %s/layer_%s.dat | awk '{print $1}'", dir, run(c))))
 
 # Figs. 9 and 10: the membranes at the study's four instants (x1 modulo L).
 set terminal pngcairo size 1200, 700 font ',10'
 do for [n in "50 100"] {
   c = 'n'.n
-  f = sprintf('%s/%s/snapshots.dat', dir, c)
+  f = sprintf('%s/%s/snapshots.dat', dir, run(c))
   tend = last_time(c)
   times = n eq '50' ? sprintf('0 %g %g %g', tend/3, 2*tend/3, tend) : sprintf('0 %g %g %g', tend/2, 3*tend/4, tend)
   set output figdir.'/cell_free_layer_membranes_'.n.'.png'
@@ -41,14 +43,14 @@ set autoscale x; set autoscale y
 set key outside bottom center horizontal maxcols 3
 # (layer_n50.dat heads the list, drawn again under its thick line: gnuplot's plot iteration runs
 # at least once, so the list must not be empty)
-ens = 'layer_n50.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
+ens = 'layer_'.run('n50').'.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
 long = last_time('n50') > 100
 rep = dir.'/layer_n50_repulsion.dat'  # the evidence run (full runs only)
 has_rep = system('test -f '.rep.' && echo 1 || echo 0') eq "1"
-plot dir.'/layer_n50.dat' using 1:4 with lines lw 2 lc 1 title '50 cells (seed 1; thin dashed: the other arrangements)', \
-     dir.'/layer_n100.dat' using 1:4 with lines lw 2 lc 2 title '100 cells (seed 1; thin dashed: the other arrangements)', \
+plot dir.'/layer_'.run('n50').'.dat' using 1:4 with lines lw 2 lc 1 title '50 cells, '.run('n50').' (thin dashed: the other arrangements)', \
+     dir.'/layer_'.run('n100').'.dat' using 1:4 with lines lw 2 lc 2 title '100 cells, '.run('n100').' (thin dashed: the other arrangements)', \
      for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
-     (has_rep ? rep : dir.'/layer_n50.dat') using 1:(has_rep ? $4 : 1/0) with lines lw 1 dt 3 lc 3 title (has_rep ? '50 cells with the repulsion' : ''), \
+     (has_rep ? rep : dir.'/layer_'.run('n50').'.dat') using 1:(has_rep ? $4 : 1/0) with lines lw 1 dt 3 lc 3 title (has_rep ? '50 cells with the repulsion' : ''), \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
      '-' using (long ? $1 : 1/0):2 with points pt 6 ps 1.5 lc rgb 'black' title 'empirical 100/Hct (the study''s comparison)'
 150 6.24
@@ -85,8 +87,8 @@ set output figdir.'/cell_free_layer_profile.png'
 set title 'Area fraction of cells across the channel, averaged over the last snapshots'
 set xlabel 'x_2 (um)'; set ylabel 'Hct(x_2) (%)'
 set xrange [0:H]; set yrange [0:*]
-plot dir.'/profile_n50.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
-     dir.'/profile_n100.dat' using 1:2 with lines lw 2 lc 2 title '100 cells'
+plot dir.'/profile_'.run('n50').'.dat' using 1:2 with lines lw 2 lc 1 title '50 cells', \
+     dir.'/profile_'.run('n100').'.dat' using 1:2 with lines lw 2 lc 2 title '100 cells'
 
 # Error against run time (work-precision), full runs only: one line per coupling and h (drawn
 # when the table has a run with an error; a sweep collected before its conv_* cases has none).

@@ -19,11 +19,14 @@ int main(int argc, char** argv) {
   app.add_flag("--resume", p.resume, "continue a run stopped by SIGINT/SIGTERM from its checkpoint");
   bool no_convergence = false;
   app.add_flag("--no-convergence", no_convergence, "skip the convergence study (short runs over h and dt, both couplings)");
+  bool study_only = false;
+  app.add_flag("--study-only", study_only,
+               "the study's run only, as --no-convergence: u_num's Δt part as recorded in reference-data/uncertainty/ (make reproduce)");
   app.add_flag("--reuse", p.reuse, "read the finished run in the output folder instead of running it again");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
-  p.convergence = !no_convergence;
+  p.convergence = !no_convergence && !study_only;
   // An explicit --out wins (make reproduce QUICK=1 passes results/constriction and draws from it).
   if (p.quick) p.out_dir = "results/constriction_quick";
   if (!out.empty()) p.out_dir = out;

@@ -134,7 +134,7 @@ std::vector<Case> cases(const Params& p) {
     if (base == "s07") return cells(base, "study", 0.7, 1.0);
     return cells(base, "study", 1.0, std::stod(base.substr(2)));
   };
-  if (p.evidence && !p.quick) {
+  if ((p.evidence || p.study_only) && !p.quick) {
     std::vector<Case> seq;
     for (const auto& [suffix, dt] : std::vector<std::pair<std::string, double>>{{"_dt0.75us", 0.75e-6}, {"_dt1.5us", 1.5e-6}, {"_dt3us", 3e-6}})
       for (const std::string base : {"kb1000", "kb100", "kb1", "kb10", "s07", "disks"}) {
@@ -143,6 +143,7 @@ std::vector<Case> cases(const Params& p) {
         c.name = base + suffix;
         c.role = "evidence";
         c.dt = dt;
+        c.reported = suffix == (base == "kb1000" ? "_dt0.75us" : "_dt1.5us");  // dt_levels(base).back()
         seq.push_back(c);
       }
     v.insert(v.end(), seq.begin(), seq.end());
@@ -206,6 +207,8 @@ std::vector<Case> cases(const Params& p) {
         v.push_back(c);
       }
   }
+  if (p.quick) for (Case& c : v) c.reported = c.role == "study";
+  if (p.study_only && !p.quick) std::erase_if(v, [](const Case& c) { return !c.reported; });
   return v;
 }
 
@@ -696,8 +699,14 @@ Results run(const Params& p) {
       if (!p.quick) res.validation["pg2002_equilibrium"] = m;
     }
   }
-  res.spread_md = spread_table(p, res);
-  std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
+  if (!p.study_only) {  // the ensemble and the Δt sequences are the evidence's
+    res.spread_md = spread_table(p, res);
+    std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
+  }
+  {  // The runs the figures draw: each case's reported run (plot.gp).
+    std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");
+    for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"}) f << base << " " << reported_case(res, base) << "\n";
+  }
   if (p.convergence && !p.quick) {
     res.convergence_md = convergence_table(p, res);
     std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_md;

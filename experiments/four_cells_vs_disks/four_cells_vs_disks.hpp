@@ -88,6 +88,7 @@ struct Case {
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's
   std::string coupling;        // empty: the scene file's
   std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
+  bool reported = false;       // the run the study's rows and figures read: the case's finest Δt
 };
 
 struct Params {
@@ -102,6 +103,9 @@ struct Params {
   std::vector<unsigned> seeds = {1, 2, 3};
   bool evidence = true;     // the Δt-halved and h-doubled full runs
   bool convergence = true;  // the 1.2 ms error-against-run-time study
+  // The reported runs only, none of the evidence (make reproduce: u_num as recorded by make
+  // evidence, reference/recorded_uncertainty.hpp). The quick parameters ignore it.
+  bool study_only = false;
 };
 
 // The cases of a run with these parameters, the longest first (GNU parallel starts them in

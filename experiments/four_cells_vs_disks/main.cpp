@@ -23,6 +23,8 @@ int main(int argc, char** argv) {
   app.add_flag("--reuse", p.reuse, "read the cases finished in the output folder instead of running them again");
   app.add_flag("--collect", p.collect, "read back the cases finished in the output folder and run none (a sweep still going: the table so far)");
   app.add_flag("--no-convergence", no_convergence, "skip the 1.2 ms error-against-run-time runs");
+  app.add_flag("--study-only", p.study_only,
+               "the runs the study's rows report (each case's finest dt), no evidence runs: u_num as recorded in reference-data/uncertainty/ (make reproduce)");
   app.add_flag("--no-evidence", no_evidence, "skip the full runs with dt halved and h doubled");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/four_cells_vs_disks_quick.csv (keeps the bands)");
@@ -47,7 +49,7 @@ int main(int argc, char** argv) {
     std::cout << "\n" << r.spread_md;
     const int study = check ? rbc::run_reference_check("four_cells_vs_disks", r.measured, p.out_dir, std::cout, !p.quick) : 0;
     // Our disk against published data (reference-data/disk_validation.csv), its own table.
-    const int validation = check && !p.quick ? rbc::run_reference_check("disk_validation", r.validation, p.out_dir + "/validation", std::cout) : 0;
+    const int validation = check && !p.quick && !p.study_only ? rbc::run_reference_check("disk_validation", r.validation, p.out_dir + "/validation", std::cout) : 0;
     return std::max({study, validation, rbc::handle_quick_record("four_cells_vs_disks", r.quick_record, p.quick, record, check, p.out_dir, std::cout)});
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "four_cells_vs_disks: %s; continue with the same command and --resume\n", e.what());

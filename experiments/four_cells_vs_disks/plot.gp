@@ -7,7 +7,9 @@ wrap(x) = x - L*floor(x/L)
 cases = "kb1 kb10 kb100 kb1000 s07 disks"
 label(c) = c eq 'kb1' ? 's* = 1, k_b' : c eq 'kb10' ? 's* = 1, 10 k_b' : c eq 'kb100' ? 's* = 1, 100 k_b' : \
            c eq 'kb1000' ? 's* = 1, 1000 k_b' : c eq 's07' ? 's* = 0.7, k_b' : 'rigid disks, r = 2.8 um'
-last_time(c) = system(sprintf("tail -1 %s/heights_%s.dat | awk '{print $1}'", dir, c))
+# Each case as its rows report it: its finest Δt run (figure_runs.txt, written by --check).
+run(c) = system(sprintf("awk -v c=%s '$1 == c {print $2}' %s/figure_runs.txt 2>/dev/null | grep . || echo %s", c, dir, c))
+last_time(c) = system(sprintf("tail -1 %s/heights_%s.dat | awk '{print $1}'", dir, run(c)))
 
 # Figs. 6 and 7 (right): the membranes and the disks at the end of each run.
 set terminal pngcairo size 1200, 900 font ',10'
@@ -21,11 +23,11 @@ set arrow 1 from 0, H/2 to L, H/2 nohead dt 2 lc rgb 'gray50'
 do for [c in cases] {
   set title label(c).' at t = '.last_time(c).' ms'
   if (c eq 'disks') {
-    plot dir.'/disks/disks_end.dat' using 1:2:3 with circles fs solid 0.3 lc rgb 'blue', \
+    plot dir.'/'.run('disks').'/disks_end.dat' using 1:2:3 with circles fs solid 0.3 lc rgb 'blue', \
          '' using ($1 - L):2:3 with circles fs solid 0.3 lc rgb 'blue', '' using ($1 + L):2:3 with circles fs solid 0.3 lc rgb 'blue'
   } else {
-    n = int(system(sprintf("grep -c '^# t =' %s/%s/snapshots.dat", dir, c)))
-    plot sprintf('%s/%s/snapshots.dat', dir, c) index n-1 using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.3 lc rgb 'red'
+    n = int(system(sprintf("grep -c '^# t =' %s/%s/snapshots.dat", dir, run(c))))
+    plot sprintf('%s/%s/snapshots.dat', dir, run(c)) index n-1 using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.3 lc rgb 'red'
   }
 }
 unset multiplot
@@ -40,7 +42,7 @@ set autoscale x; set yrange [0:H]
 set xlabel 't (ms)'; set ylabel 'x_2 (um)'
 do for [c in cases] {
   set title label(c)
-  plot for [k=2:5] sprintf('%s/heights_%s.dat', dir, c) using 1:k with lines lw 1.5
+  plot for [k=2:5] sprintf('%s/heights_%s.dat', dir, run(c)) using 1:k with lines lw 1.5
 }
 unset multiplot
 
@@ -54,7 +56,7 @@ set autoscale y
 set key outside bottom center horizontal maxcols 3
 long = real(last_time('kb1')) > 100  # the study's points only beside a full run
 ens = system(sprintf("cd %s && ls heights_*_seed*.dat 2>/dev/null | tr '\\n' ' '", dir))
-plot for [i=1:words(cases)] sprintf('%s/heights_%s.dat', dir, word(cases, i)) using 1:6 with lines lw 2 lc i title label(word(cases, i)), \
+plot for [i=1:words(cases)] sprintf('%s/heights_%s.dat', dir, run(word(cases, i))) using 1:6 with lines lw 2 lc i title label(word(cases, i)), \
      for [f in ens] dir.'/'.f using 1:6 with lines lw 0.7 dt 2 lc (strstrt(f, 'disks') ? 6 : 1) notitle, \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study, 200 ms (k_b ... 1000 k_b, disks)'
 200 9.22

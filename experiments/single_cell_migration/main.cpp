@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
   bool list = false;
   app.add_flag("--list-cases", list, "print the cases' names, one per line, the longest first (for GNU parallel)");
   app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
+  bool study_only = false;
+  app.add_flag("--study-only", study_only,
+               "the study's runs only (narrow and wide channels), no evidence runs: u_num as recorded in reference-data/uncertainty/ (make reproduce)");
   bool resume = false;
   app.add_flag("--resume", resume, "continue cases stopped by SIGINT/SIGTERM from the checkpoint in their folder");
   bool record = false;
@@ -36,6 +39,7 @@ int main(int argc, char** argv) {
   p.only = only;
   p.reuse = reuse;
   p.resume = resume;
+  p.study_only = study_only;
   if (!out.empty()) p.out_dir = out;
   p.threads = threads;
   try {

@@ -63,7 +63,9 @@ plot for [s in ratios] dir.'/wide_si_s'.s.'/series.csv' using (column("t")*1e3):
      for [i=1:3] snap(word(ratios, i)) using 1:2 with points pt 7 ps 1.2 lc i title label(word(ratios, i)).' (snapshots)', \
      25 with lines dt 2 lc rgb 'gray' title 'centreline'
 
-# Units evidence: the two readings of the constants over the first millisecond.
+# Units evidence: the two readings of the constants over the first millisecond (make evidence's
+# runs: drawn when the other reading's runs are there).
+if (system('test -f '.dir.'/narrow_cgs_s055/series.csv && echo 1 || echo 0') eq "1") {
 set output figdir.'/single_cell_migration_units.png'
 set multiplot layout 1,2 title 'Which reading of the 2D constants? SI (J/m as given) against CGS (100 x stiffer)'
 set title 'centroid height'
@@ -82,6 +84,8 @@ set ylabel 'y - 5 um'
 plot for [s in "055 100"] dir.'/narrow_si_s'.s.'/snapshots_centred.dat' index 8 using 1:($2-5) with lines lw 2 title 'SI, '.label(s), \
      for [s in "055 100"] dir.'/narrow_cgs_s'.s.'/snapshots_centred.dat' index 3 using 1:($2-5) with lines lw 2 dt 2 title 'CGS, '.label(s)
 unset multiplot
+set size noratio
+}
 
 # Error against run time (work-precision): one line per coupling and mesh size, Δt halving along it.
 conv = dir.'/convergence.csv'

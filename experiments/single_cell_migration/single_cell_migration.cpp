@@ -392,6 +392,10 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
   // The longest first: GNU parallel (make reproduce) starts them in this order, so that the last
   // to start are short and the cores finish together.
   std::stable_sort(jobs.begin(), jobs.end(), [](const Job& a, const Job& b) { return estimated_work(a.scene) > estimated_work(b.scene); });
+  if (p.study_only) {
+    std::erase_if(jobs, [&](const Job& j) { return j.name.rfind("narrow_" + p.membrane.units + "_", 0) != 0 && j.name.rfind("wide_", 0) != 0; });
+    conv.clear();
+  }
   return jobs;
 }
 
@@ -442,7 +446,7 @@ Results run(const Params& p) {
   }
   if (!conv.empty() && (p.only.empty() || std::string("conv").rfind(p.only, 0) == 0 || p.only.rfind("conv", 0) == 0))
     convergence_table(p, conv, res);
-  if (!p.quick && p.re_convergence && p.only.empty()) re_evidence_table(p, res);
+  if (!p.quick && p.re_convergence && p.only.empty() && !p.study_only) re_evidence_table(p, res);
   if (!p.only.empty()) return res;  // a part: no comparison with the study
 
   // The study's rows (reference-data/single_cell_migration.csv).
@@ -530,6 +534,7 @@ Results run(const Params& p) {
       }
       res.measured["wide_ordering"] = {{}, holds && compared > 0, "y (um) for s* = 0.55/0.7/1.0 at " + text};
     }
+    if (p.study_only) return res;  // the units evidence needs the other reading's runs
     // The units evidence, side by side at the end of the other reading's run.
     std::ostringstream ev;
     ev << "| s* | reading | y at " << p.other_end * 1e3 << " ms (um) | shape at " << p.other_end * 1e3

@@ -73,6 +73,10 @@ struct Params {
   // reuse: a case whose output folder holds a finished run of the same scene is read, not rerun.
   std::string only;
   bool reuse = false;
+  // study_only: the runs the study's rows and figures read (the narrow and wide channels under the
+  // chosen reading), none of the evidence (make reproduce: u_num as recorded by make evidence,
+  // reference/recorded_uncertainty.hpp). The quick parameters have only those.
+  bool study_only = false;
   // resume: a case whose folder holds a checkpoint (a run stopped by SIGINT/SIGTERM) continues
   // from it. SIGINT/SIGTERM stop every running case after its checkpoint (RunInterrupted).
   bool resume = false;

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "io/csv.hpp"
+#include "reference/recorded_uncertainty.hpp"
 
 namespace rbc {
 
@@ -247,9 +248,17 @@ CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, cons
   return s;
 }
 
-int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours, const std::string& out_dir,
+int run_reference_check(const std::string& table, const std::map<std::string, Measured>& measured, const std::string& out_dir,
                         std::ostream& out, bool at_study_parameters) {
   const auto rows = load_reference_table(reference_table_path(table));
+  std::filesystem::create_directories(out_dir);
+  // u_num: as measured from the evidence runs on disk (written for make evidence's record), else
+  // as recorded by make evidence (reference/recorded_uncertainty.hpp).
+  std::map<std::string, Measured> ours = measured;
+  if (at_study_parameters) {
+    write_measured_uncertainty(measured, out_dir + "/uncertainty.csv");
+    apply_recorded_uncertainty(ours, load_recorded_uncertainty(recorded_uncertainty_path(table)));
+  }
   const auto deviations = load_known_deviations(known_deviations_path(table));
   for (const auto& [id, d] : deviations) {
     bool found = false;
@@ -261,7 +270,6 @@ int run_reference_check(const std::string& table, const std::map<std::string, Me
     out << "Quick parameters: only the rows that do not depend on them (geometry) are compared with the study here; the "
            "quick case's own numbers are checked against its regression record below.\n";
   print_comparison(summary, out);
-  std::filesystem::create_directories(out_dir);
   std::ofstream md(out_dir + "/check.md");
   print_comparison(summary, md, true);
   std::ofstream csv(out_dir + "/check.csv");

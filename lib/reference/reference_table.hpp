@@ -106,7 +106,10 @@ CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, cons
 
 // An experiment's --check: compares with reference-data/<table>.csv and its recorded deviations,
 // prints the table on out, writes it as Markdown to <out_dir>/check.md and as CSV to
-// <out_dir>/check.csv (for the report), returns the exit code (0, or 1 on a FAIL).
+// <out_dir>/check.csv (for the report), returns the exit code (0, or 1 on a FAIL). At the study's
+// parameters it also writes the rows' u_num as measured to <out_dir>/uncertainty.csv, and a row
+// whose u_num is incomplete (its evidence runs are not on disk) takes the one recorded in
+// reference-data/uncertainty/<table>.csv (reference/recorded_uncertainty.hpp).
 int run_reference_check(const std::string& table, const std::map<std::string, Measured>& ours, const std::string& out_dir,
                         std::ostream& out, bool at_study_parameters = true);
 
