@@ -1,6 +1,9 @@
 # rbcflow — two commands do everything (README.md):
-#   make reproduce   run every experiment, draw its figures, write paper/report/   (QUICK=1: CI parameters)
+#   make reproduce   the study's runs from the current commit, its figures, paper/report/   (QUICK=1: CI parameters)
 #   make test        unit tests and quick experiment checks, Release and sanitized builds
+# and the evidence behind every u_num (start ensembles, Δt/h refinement, error against run time,
+# the stability map), hours of independent cases on GNU parallel here or over SSH, or a Slurm array:
+#   make evidence    every case, then reference-data/uncertainty/ and paper/evidence/
 # Missing Debian packages are installed first (as root; apt-get update, then only what is absent).
 
 BUILD      ?= build
@@ -9,9 +12,8 @@ BUILD_FUZZ ?= build-fuzz
 FUZZ_SECONDS ?= 120
 JOBS       ?= $(shell nproc)
 QUICK      ?= 0
-REUSE      ?= 0    # 1: write the report from results/ already on disk (see paper/make_report.sh)
-ONLY       ?=      # "exp ...": run these experiments and rewrite their sections of the report only
-COLLECT    ?= 0    # 1 (with ONLY): run no case, write the sections from the cases finished so far
+ONLY       ?=      # "exp ...": these experiments only (report in results/report/, not paper/report/)
+COLLECT    ?= 0    # 1: run no case, write the report from the cases finished so far (after a Slurm array)
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
                 libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev parallel
@@ -20,7 +22,7 @@ FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 # The experiments that exist so far, in the study's order (SPEC section 5).
 EXPERIMENTS := channel_flow single_cell_migration four_cells_vs_disks cell_free_layer stability_map constriction
 
-.PHONY: all deps build test test-release test-sanitize reproduce bench fuzz clean
+.PHONY: all deps build test test-release test-sanitize reproduce evidence evidence-cases bench fuzz clean
 
 all: build
 
@@ -63,9 +65,19 @@ fuzz:
 	$(BUILD_FUZZ)/bin/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
 	  -artifact_prefix=$(BUILD_FUZZ)/ $(BUILD_FUZZ)/corpus tests/fuzz/seeds paper/method/scenes experiments/channel_flow tests/fuzz/regressions
 
+# Interruptible: Ctrl-C, then the same command continues (paper/make_report.sh).
 reproduce: build
-	@if [ -z "$(EXPERIMENTS)" ]; then echo "rbcflow: no experiments yet; nothing to reproduce"; exit 0; fi
-	QUICK=$(QUICK) REUSE=$(REUSE) ONLY="$(strip $(ONLY))" COLLECT=$(COLLECT) BUILD=$(BUILD) bash paper/make_report.sh $(EXPERIMENTS)
+	QUICK=$(QUICK) ONLY="$(strip $(ONLY))" COLLECT=$(COLLECT) BUILD=$(BUILD) JOBS=$(JOBS) bash paper/make_report.sh reproduce $(EXPERIMENTS)
+
+evidence: build
+	ONLY="$(strip $(ONLY))" COLLECT=$(COLLECT) BUILD=$(BUILD) JOBS=$(JOBS) bash paper/make_report.sh evidence $(EXPERIMENTS)
+
+# The evidence's cases, "experiment case" per line, for other engines (paper/running_at_scale.md).
+evidence-cases:
+	@$(MAKE) --no-print-directory build >&2
+	@for e in $(EXPERIMENTS); do \
+	  if $(BUILD)/bin/$$e --help | grep -q -- --list-cases; then $(BUILD)/bin/$$e --list-cases | sed "s/^/$$e /"; \
+	  elif [ $$e != channel_flow ]; then echo "$$e -"; fi; done
 
 bench: build
 	$(BUILD)/bin/bench_channel

@@ -1,236 +1,355 @@
 #!/usr/bin/env bash
-# Writes the reproduction report: runs each experiment named on the command line with --check,
-# draws its figures with its gnuplot script, opens the report with the table of all the study's
-# numbers (build/bin/rbcflow summary) and records the commit, date, machine and command.
-# Called by `make reproduce`: the full report goes to paper/report/README.md (committed); with
-# QUICK=1 (the CI parameters) to results/report/README.md, so that a quick run never overwrites
-# the committed full-parameter report. REUSE=1 reads the finished runs under results/ (the
-# experiments' --reuse) instead of running them again, and recomputes every verdict.
+# The two main jobs of rbcflow (README.md), called by make:
 #
-# Sections. Each experiment's comparison (check.csv, from which the table of all the study's
-# numbers is made) and its provenance (command, commit, date) are kept in
-# <report>/data/<experiment>/, its section in the report itself. ONLY="exp ..." runs
-# those experiments and rewrites their sections only, keeping the others as they were written
-# (each says by which run): the full reproduction takes longer than one working session on two
-# cores, and its parts are rerun where they changed. COLLECT=1 (with ONLY) runs no case and reads
-# the cases finished so far (the experiments' --collect; the others' rows say "not run").
-# Exit status: 0, or 1 if an experiment stopped with an error, a figure failed or a row FAILed.
+#   make_report.sh reproduce EXPERIMENT...   `make reproduce`: the study's own runs — the ones its
+#       rows and figures read — from the current commit, then every experiment's comparison, its
+#       figures and paper/report/README.md, whole. Each row's u_num is read from the record that
+#       make evidence left in reference-data/uncertainty/ (its commit and code named in the report).
+#   make_report.sh evidence EXPERIMENT...    `make evidence`: every run of every experiment (the
+#       study's runs again where not on disk, the start ensembles, the Δt/h refinements, the error-
+#       against-run-time studies, the stability map), then the record of u_num
+#       (reference-data/uncertainty/<experiment>.csv, with this commit and code) and
+#       paper/evidence/README.md.
+#
+# Every case is one process (one thread) in one GNU parallel pool over all the experiments, the
+# longest first by the times of the last full run (paper/report/data/case_times.csv), with one
+# progress line a minute (cases done, elapsed, an estimate of the time left). Interruptible: Ctrl-C
+# (or a killed machine) and the same command again continues — finished cases are read back,
+# stopped ones resume from their checkpoints (written on the signal and every 5 minutes of wall
+# time), the same numbers as a straight run (paper/stop_and_resume.md).
+#
+# Results are kept per code: results/<experiment>/code_id names the sources that made them (the
+# .cpp, .hpp and .toml files of lib/ and experiments/, and CMakeLists.txt: not the documents or
+# plot scripts); a folder made by other code is moved to results/older/ before anything runs, so
+# that no number of the report comes from another commit's code.
+#
+# Environment (make's variables):
+#   QUICK=1    the CI parameters (reproduce only): results under results/quick/, the report in
+#              results/report/README.md (never over the committed one); an uncommitted tree is
+#              allowed and said.
+#   ONLY="exp ..."  these experiments only; the report goes to results/report/README.md (the
+#              committed report is only ever written whole).
+#   COLLECT=1  run no case: write the report from the cases finished so far (e.g. after a Slurm
+#              array, paper/running_at_scale.md); rows of missing cases say "not run".
+#   JOBS       cases side by side (default: the number of cores).
+#   RESULTS    the results folder (default results; the tests use their own).
+# Exit status: 0; 1 if a row FAILed, an experiment stopped or a figure failed; 2 on bad use or a
+# refused tree; 130 when interrupted (run the same command again to continue).
 set -uo pipefail
 cd "$(dirname "$0")/.."
+mode=${1:-}; shift || true
+case "$mode" in reproduce|evidence) ;; *) echo "usage: $0 reproduce|evidence EXPERIMENT..." >&2; exit 2 ;; esac
 BUILD=${BUILD:-build}
 QUICK=${QUICK:-0}
 ONLY=${ONLY:-}
 COLLECT=${COLLECT:-0}
-results=results
-mkdir -p "$results"
-if [ "$QUICK" = "1" ]; then report=$results/report; else report=paper/report; fi
-mkdir -p "$report/figures" "$report/data"
-quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
-command="make reproduce$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ "${REUSE:-0}" = "1" ] && echo ' REUSE=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-dirty=$(git status --porcelain -- . ':!paper/report' 2>/dev/null | grep -qv '^??' && echo " (with uncommitted changes)" || true)  # the report itself does not count
-cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
-date_now=$(date -u '+%Y-%m-%d %H:%M UTC')
-parameters=$([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')")
+JOBS=${JOBS:-$(nproc)}
+start_all=$(date +%s)
 
-# The experiments this run writes: ONLY's (each must be one of the report's), or all of them.
+if [ "$mode" = evidence ] && [ "$QUICK" = "1" ]; then
+  echo "rbcflow: make evidence has no quick form (its runs measure the full runs' uncertainty)" >&2; exit 2
+fi
+
+# The experiments of this run: ONLY's (each one of the list), or all; make reproduce leaves out
+# those made of evidence alone (stability_map: the study publishes no number for it).
+all=("$@")
 run_list=("$@")
 if [ -n "$ONLY" ]; then
   run_list=()
   for exp in $ONLY; do
-    case " $* " in *" $exp "*) run_list+=("$exp") ;; *) echo "rbcflow: ONLY names '$exp', not an experiment of the report (one of: $*)" >&2; exit 2 ;; esac
+    case " ${all[*]} " in *" $exp "*) run_list+=("$exp") ;; *) echo "rbcflow: ONLY names '$exp', not one of: ${all[*]}" >&2; exit 2 ;; esac
   done
 fi
-if [ "$COLLECT" = "1" ] && [ -z "$ONLY" ]; then
-  echo "rbcflow: COLLECT=1 needs ONLY=\"experiment ...\" (it rewrites those sections from the cases finished so far)" >&2; exit 2
+evidence_only=" stability_map "
+if [ "$mode" = reproduce ]; then
+  keep=(); for exp in "${run_list[@]}"; do [[ "$evidence_only" == *" $exp "* ]] || keep+=("$exp"); done; run_list=("${keep[@]}")
 fi
-sections=$(mktemp -d)  # this run's sections; the others are read from the report as it was
-trap 'rm -rf "$sections"' EXIT
 
-status=0
+# The tree: committed, unless QUICK (CI's own checkout is always clean; a quick run of a working
+# tree says so). The code id: the sources that make the numbers.
+sources=(lib experiments CMakeLists.txt)
+numeric=(':(glob)lib/**/*.[ch]pp' ':(glob)experiments/**/*.[ch]pp' ':(glob)experiments/**/*.toml' CMakeLists.txt)
+commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+changes=$(git status --porcelain -- "${sources[@]}" reference-data 2>/dev/null)
+code=$(git ls-tree -r HEAD -- "${sources[@]}" 2>/dev/null | grep -E $'(\\.[ch]pp|\\.toml|\tCMakeLists\\.txt)$' | git hash-object --stdin | cut -c1-12)
+dirty=""
+if [ -n "$changes" ]; then
+  if [ "$QUICK" != "1" ]; then
+    echo "rbcflow: make $mode writes its report from one commit: commit or stash these changes first:" >&2
+    echo "$changes" | sed 's/^/  /' >&2
+    exit 2
+  fi
+  dirty=" (with uncommitted changes)"
+  numeric_changes=$( (git diff HEAD -- "${numeric[@]}"; git ls-files --others --exclude-standard -- "${numeric[@]}" | xargs -r cat) | git hash-object --stdin | cut -c1-8)
+  [ -n "$(git status --porcelain -- "${numeric[@]}")" ] && code="$code-$numeric_changes"
+fi
+
+results=${RESULTS:-results}; [ "$QUICK" = "1" ] && [ -z "${RESULTS:-}" ] && results=results/quick
+quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
+if [ "$mode" = evidence ]; then report=paper/evidence
+elif [ "$QUICK" = "1" ] || [ -n "$ONLY" ]; then report=${RESULTS:-results}/report
+else report=paper/report; fi
+times_record=paper/report/data/case_times.csv   # exp,case,seconds of the last full run (ordering, estimates)
+command="make $mode$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
+mkdir -p "$results" "$report"
+log() { echo "rbcflow $mode: $*" >&2; }
+
+# Results made by other code move aside (results/older/<experiment>.<code>), once per folder.
 for exp in "${run_list[@]}"; do
   dir="$results/$exp"
-  # REUSE=1: write the report from results already on disk (from the same experiment binary and
-  # parameters), e.g. after a long run started by hand; the report says so.
-  reuse_flag=""; wall_note=""
-  if [ "${REUSE:-0}" = "1" ] && "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--reuse'; then
-    reuse_flag="--reuse"; wall_note=" (with --reuse: cases finished on disk are read back, not run again; each case's own run time is in the tables below)"
+  if [ -d "$dir" ] && [ "$(cat "$dir/code_id" 2>/dev/null)" != "$code" ]; then
+    old=$(cat "$dir/code_id" 2>/dev/null || echo unknown)
+    mkdir -p "$results/older"; rm -rf "$results/older/$exp.$old"; mv "$dir" "$results/older/$exp.$old"
+    log "$dir was made by other code ($old, not $code): moved to $results/older/$exp.$old"
   fi
-  start=$(date +%s)
-  # An experiment made of independent cases (--list-cases) runs them with GNU parallel, one
-  # thread per case on every core, then collects them with --check --reuse (README.md: the same
-  # commands spread the cases over machines or a Slurm array).
-  if [ "$COLLECT" = "1" ]; then
-    if "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--collect'; then
-      reuse_flag="--collect"; wall_note=" (with --collect: the cases finished on disk are read back and none is run; the tables say which were not run)"
-    else
-      reuse_flag="--reuse"; wall_note=" (with --reuse: cases finished on disk are read back, not run again)"
-    fi
-  elif "$BUILD/bin/$exp" --help 2>/dev/null | grep -q -- '--list-cases'; then
-    mkdir -p "$dir"
-    echo "rbcflow: running the cases of $exp $quick_flag with GNU parallel -j $(nproc)" >&2
-    "$BUILD/bin/$exp" --list-cases $quick_flag | parallel --will-cite -j "$(nproc)" --joblog "$dir/joblog" \
-      "$BUILD/bin/$exp" --out "$dir" $quick_flag $reuse_flag --only {} --threads 1 ">" "$dir/{}.log" "2>&1" \
-      || echo "rbcflow: some cases of $exp stopped (their rows say why; logs in $dir/)" >&2
-    [ -n "$reuse_flag" ] && wall_note=" (with --reuse: its cases finished on disk are read back through GNU parallel, not run again; each case's own run time is in the tables below)" \
-      || wall_note=" (its cases run with GNU parallel on $(nproc) cores, one thread each; each case's wall time is in the tables below)"
-    reuse_flag="--reuse"
+  mkdir -p "$dir"; echo "$code" > "$dir/code_id"
+done
+
+has_flag() { "$BUILD/bin/$1" --help 2>/dev/null | grep -q -- "$2"; }
+part_flag() { [ "$mode" = reproduce ] && has_flag "$1" --study-only && echo --study-only; }
+
+# The jobs: "experiment case" per line (case "-": the experiment is one run, e.g. constriction).
+# channel_flow (seconds) runs in its collect step.
+jobs_file="$results/jobs_$mode.txt"
+: > "$jobs_file"
+for exp in "${run_list[@]}"; do
+  if has_flag "$exp" --list-cases; then
+    "$BUILD/bin/$exp" --list-cases $quick_flag $(part_flag "$exp") | sed "s/^/$exp /" >> "$jobs_file"
+  elif [ "$exp" != channel_flow ]; then
+    echo "$exp -" >> "$jobs_file"
   fi
-  echo "rbcflow: running $exp $quick_flag --check $reuse_flag" >&2
-  rm -f "$dir/check.csv"  # a failed check leaves none, not an older run's
-  "$BUILD/bin/$exp" --out "$dir" --check $quick_flag $reuse_flag > "$dir.log" 2>&1
+done
+# The longest first, by the last full run's times (unknown ones first: the order of --list-cases).
+if [ -f "$times_record" ] && [ "$QUICK" != "1" ]; then
+  awk -F, 'NR == FNR {if (FNR > 1) t[$1 " " $2] = $3; next} {print (($0 in t) ? t[$0] : 1e9) "\t" NR "\t" $0}' \
+    "$times_record" "$jobs_file" | sort -t$'\t' -k1,1gr -k2,2n | cut -f3 > "$jobs_file.sorted" && mv "$jobs_file.sorted" "$jobs_file"
+fi
+
+# One case: read back if finished, resumed from its checkpoint if stopped, else run.
+run_one() {  # exp case
+  local exp=$1 name=$2 dir="$results/$1"
+  if [ "$name" = "-" ]; then
+    "$BUILD/bin/$exp" --out "$dir" $quick_flag $(part_flag "$exp") --reuse --resume --threads 1 > "$dir/run.log" 2>&1
+  else
+    "$BUILD/bin/$exp" --out "$dir" $quick_flag $(part_flag "$exp") --reuse --resume --only "$name" --threads 1 > "$dir/$name.log" 2>&1
+  fi
+}
+export -f run_one part_flag has_flag
+export BUILD results quick_flag mode
+export PARALLEL_SHELL=bash  # run_one is a bash function
+
+# One progress line a minute: cases done, elapsed, and the time left estimated from the running
+# cases' own ETA and the queued cases' last full-run times, shared over JOBS cores.
+progress() {
+  local joblog=$1 total=$2
+  while sleep 60; do
+    done_n=$(( $(wc -l < "$joblog" 2>/dev/null || echo 1) - 1 ))
+    elapsed=$(( $(date +%s) - start_all ))
+    running=$(ps -eo args= 2>/dev/null | awk -v b="$BUILD/bin/" -v r="$results/" '$1 ~ b && index($0, "--out " r) && / --resume / {
+      n = "-"; for (i = 1; i <= NF; i++) if ($i == "--only") n = $(i + 1); print (n == "-" ? substr($1, length(b) + 1) : n)}' | sort -u)
+    left=0; names=""
+    for n in $running; do
+      eta=$(grep -ho 'ETA [0-9hms]*' "$results"/*/"$n.log" "$results/$n/run.log" 2>/dev/null | tail -1 | awk '{s = $2; t = 0; if (s ~ /h/) {split(s, a, "h"); t += a[1] * 3600; s = a[2]} if (s ~ /m/) {split(s, a, "m"); t += a[1] * 60; s = a[2]} sub("s", "", s); print t + s}')
+      left=$(( left + ${eta:-0} )); names="$names $n"
+    done
+    # The queued cases: those after the done and running ones in the jobs file (parallel's order).
+    read -r queued_s unknown < <(tail -n +$((done_n + $(echo $running | wc -w) + 1)) "$jobs_file" | awk -v rec="$times_record" '
+      BEGIN {while ((getline l < rec) > 0) {split(l, f, ","); t[f[1] " " f[2]] = f[3]}}
+      {if ($0 in t) s += t[$0]; else u++} END {print int(s), u + 0}')
+    left=$(( (left + ${queued_s:-0}) / JOBS ))
+    printf 'rbcflow %s: %d/%d cases done, %dm elapsed, about %dm left%s (running:%s)\n' "$mode" "$done_n" "$total" $((elapsed / 60)) $((left / 60)) \
+      "$([ "${unknown:-0}" != 0 ] && echo " and $unknown queued cases of no recorded length")" "$names" >&2
+  done
+}
+
+interrupted=0
+trap 'interrupted=1' INT TERM
+total=$(wc -l < "$jobs_file")
+if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
+  joblog="$results/joblog_$mode"
+  log "$total cases of ${run_list[*]} on $JOBS cores, the longest first (jobs: $jobs_file, joblog: $joblog)"
+  progress "$joblog" "$total" & progress_pid=$!
+  # On Ctrl-C (or TERM) GNU parallel passes SIGINT on to every running case (each in its own
+  # process group) and gives it a minute to write its checkpoint before TERM and KILL.
+  parallel --will-cite -j "$JOBS" --colsep ' ' --joblog "$joblog" --termseq INT,60000,TERM,5000,KILL,25 run_one {1} {2} < "$jobs_file"
+  kill "$progress_pid" 2>/dev/null; wait "$progress_pid" 2>/dev/null
+  if [ "$interrupted" = "1" ]; then
+    echo "$code $(( $(date +%s) - start_all ))" >> "$results/interrupted_$mode.txt"
+    log "interrupted after $(( $(date +%s) - start_all )) s: run '$command' again to continue (finished cases are read back, stopped ones resume)"
+    exit 130
+  fi
+  failed=$(awk 'NR > 1 && $7 != 0' "$joblog" | wc -l)
+  [ "$failed" -gt 0 ] && log "$failed cases stopped (their rows say why; logs in $results/<experiment>/<case>.log)"
+fi
+trap - INT TERM
+
+# Collect every experiment: its comparison (check.md/.csv), figures and section.
+sections=$(mktemp -d); trap 'rm -rf "$sections"' EXIT
+status=0
+declare -A exp_wall
+for exp in "${run_list[@]}"; do
+  dir="$results/$exp"
+  t0=$(date +%s)
+  flags="--check $quick_flag $(part_flag "$exp")"
+  if has_flag "$exp" --collect; then flags="$flags --collect"
+  elif has_flag "$exp" --reuse; then flags="$flags --reuse"; fi
+  has_flag "$exp" --threads && flags="$flags --threads 1"
+  rm -f "$dir/check.csv" "$dir/uncertainty.csv"
+  log "collecting $exp ($BUILD/bin/$exp --out $dir $flags)"
+  "$BUILD/bin/$exp" --out "$dir" $flags > "$dir/check.log" 2>&1
   rc=$?
-  wall="$(( $(date +%s) - start )) s$wall_note"
-  [ "$rc" -ne 0 ] && status=1  # 1: a row FAILed (the table says which); 2 or more: the run stopped
-  [ "$rc" -ge 2 ] && tail -3 "$dir.log" >&2
-  rm -f "$report/figures/${exp}"_*.png
-  gnuplot -e "dir='$dir'; figdir='$report/figures'" "experiments/$exp/plot.gp" || status=1
-  data="$report/data/$exp"
-  mkdir -p "$data"
-  if [ -f "$dir/check.csv" ]; then cp "$dir/check.csv" "$data/check.csv"; else rm -f "$data/check.csv"; fi
-  echo "| $exp | \`$command\` | $commit$dirty | $date_now | $parameters |" > "$data/provenance.md"
+  [ "$rc" -ne 0 ] && status=1
+  [ "$rc" -ge 2 ] && { log "$exp stopped (exit $rc):"; tail -3 "$dir/check.log" >&2; }
+  figdir="$report/figures"; mkdir -p "$figdir"
+  rm -f "$figdir/${exp}"_*.png
+  gnuplot -e "dir='$dir'; figdir='$figdir'" "experiments/$exp/plot.gp" > "$dir/plot.log" 2>&1 || { status=1; log "$exp: a figure failed ($dir/plot.log)"; }
+  # The evidence's figures (error against run time, the evidence runs, the units) go to the
+  # evidence report, the study's to the reproduction report.
+  for fig in "$figdir/${exp}"_*.png; do
+    [ -f "$fig" ] || continue
+    case "$(basename "$fig")" in *work_precision*|*_evidence*|*_units*) [ "$mode" = reproduce ] && rm -f "$fig" ;; *) [ "$mode" = evidence ] && [ "$exp" != stability_map ] && rm -f "$fig" ;; esac
+  done
+  mkdir -p "$report/data/$exp"
+  [ -f "$dir/check.csv" ] && cp "$dir/check.csv" "$report/data/$exp/check.csv"
+  # Each case's run time, for the next run's order and estimates.
+  if [ -f "$dir/cases.csv" ]; then
+    awk -F, -v e="$exp" 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "wall_seconds") w = i; next} w && $w != "" {print e "," $1 "," $w}' "$dir/cases.csv" > "$dir/case_times.csv"
+  else  # one run (constriction, stability_map): its job's time, when it ran rather than was read back
+    awk -v e="$exp" 'NR > 1 {split($0, f, "\t"); if (f[9] == "run_one " e " -" && f[4] > 5) print e ",-," int(f[4])}' "$results/joblog_$mode" 2>/dev/null > "$dir/case_times.csv"
+  fi
+  # The experiment's run time: its cases' own (one thread each; a resumed case's includes the time
+  # before its interruption) plus this step's.
+  cases_s=$(awk -F, '{s += $3} END {printf "%d", s}' "$dir/case_times.csv" 2>/dev/null)
+  exp_wall[$exp]="$(( ${cases_s:-0} + $(date +%s) - t0 ))"
   {
     echo "## $exp"
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
-    echo "Written by \`$command\` at commit $commit$dirty, $date_now."
+    echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: ${exp_wall[$exp]} s."
     echo
-    echo "Run: \`$BUILD/bin/$exp --check $quick_flag $reuse_flag\` — wall time ${wall}, exit code $rc."
-    if [ "${REUSE:-0}" = "1" ] || [ "$COLLECT" = "1" ]; then
-      # Provenance of runs read back: when they finished (their summary.json files' times, UTC).
-      span=$(find "$dir" -name summary.json -printf '%TY-%Tm-%Td %TH:%TM\n' 2>/dev/null | sort | sed -n '1p;$p' | tr '\n' ' ')
-      [ -n "$span" ] && echo "Runs on disk finished between (UTC, first and last): $span."
-    fi
-    echo
-    [ -f "$dir/check.md" ] && cat "$dir/check.md" || echo "(no comparison table: the run failed; see $dir.log)"
+    if [ -f "$dir/check.md" ]; then cat "$dir/check.md"; elif [ "$mode" = reproduce ]; then echo "(no comparison table: the run failed; see $dir/check.log)"; fi
     echo
     if [ -f "$dir/regression.md" ]; then
       echo "The quick case's own numbers against its committed regression record (reference-data/regression/):"
-      echo
-      cat "$dir/regression.md"
-      echo
+      echo; cat "$dir/regression.md"; echo
+    fi
+    if [ "$mode" = evidence ]; then
+      [ -f "$dir/validation/check.md" ] && { echo "### Our rigid disk against published data"; echo; echo "One disk at the parameters of Pan & Glowinski (2002), J. Comput. Phys. 181, 260-279 (reference-data/disk_validation.csv; the experiment's README):"; echo; cat "$dir/validation/check.md"; echo; }
+      [ -f "$dir/spread.md" ] && { echo "### The ensemble, the Δt sequences and the study's differences"; echo; cat "$dir/spread.md"; echo; }
+      [ -f "$dir/ensemble.md" ] && { echo "### The ensemble of initial arrangements"; echo; cat "$dir/ensemble.md"; echo; }
+      [ -f "$dir/re_evidence.md" ] && { echo "### What could explain the Reynolds numbers with the cell"; echo; cat "$dir/re_evidence.md"; echo; }
+      [ -f "$dir/units_evidence.md" ] && { echo "### Which reading of the 2D constants"; echo; sed -n '/^## Units/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'; echo; cat "$dir/units_evidence.md"; echo; }
+      [ -f "$dir/convergence.md" ] && { echo "### Error against run time"; echo; cat "$dir/convergence.md"; echo; }
     fi
     if [ -f "$dir/cases.csv" ]; then
-      echo "Every run of this experiment (wall time per run, one thread each; columns as defined in the experiment's README):"
+      echo "Every run (wall time per run, one thread each; columns as defined in the experiment's README):"
       echo
       awk -F, 'NR==1{h="|"; s="|"; for(i=1;i<=NF;i++){h=h" "$i" |"; s=s"---|"}; print h; print s; next}
                {r="|"; for(i=1;i<=NF;i++){r=r" "$i" |"}; print r}' "$dir/cases.csv"
       echo
     fi
-    if [ -f "$dir/spread.md" ]; then
-      echo "### The ensemble, the Δt sequences and the study's differences"
-      echo
-      cat "$dir/spread.md"
-      echo
+    if [ "$mode" = reproduce ] && grep -q '^## Deviations' "experiments/$exp/README.md" 2>/dev/null; then
+      echo "### Deviations and choices"; echo
+      sed -n '/^## Deviations/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'; echo
     fi
-    if [ -f "$dir/validation/check.md" ]; then
-      echo "### Our rigid disk against published data"
-      echo
-      echo "One disk at the parameters of Pan & Glowinski (2002), J. Comput. Phys. 181, 260-279 (reference-data/disk_validation.csv; the experiment's README):"
-      echo
-      cat "$dir/validation/check.md"
-      echo
-    fi
-    if [ -f "$dir/ensemble.md" ]; then
-      echo "### The ensemble of initial arrangements"
-      echo
-      cat "$dir/ensemble.md"
-      echo
-    fi
-    if [ -f "$dir/convergence.md" ]; then
-      echo "### Error against run time"
-      echo
-      cat "$dir/convergence.md"
-      echo
-    fi
-    if [ -f "$dir/re_evidence.md" ]; then
-      echo "### What could explain the Reynolds numbers with the cell"
-      echo
-      cat "$dir/re_evidence.md"
-      echo
-    fi
-    if [ -f "$dir/units_evidence.md" ]; then
-      echo "### Which reading of the 2D constants"
-      echo
-      sed -n '/^## Units/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
-      echo
-      cat "$dir/units_evidence.md"
-      echo
-    fi
-    if [ -f "experiments/$exp/README.md" ] && grep -q '^## Deviations' "experiments/$exp/README.md"; then
-      echo "### Deviations and choices"
-      echo
-      sed -n '/^## Deviations/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
-      echo
-    fi
-    for fig in "$report/figures/${exp}"_*.png; do
-      [ -f "$fig" ] && echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))" && echo
+    for fig in "$figdir/${exp}"_*.png; do
+      [ -f "$fig" ] || continue
+      echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))"; echo
     done
   } > "$sections/$exp.md"
 done
 
-# The report, put together from every experiment's section as last written.
+# make evidence: the record of u_num, with this commit and code (reference-data/uncertainty/).
+if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncertainty.csv 2>/dev/null)" ]; then
+  mkdir -p reference-data/uncertainty
+  for exp in "${run_list[@]}"; do
+    for pair in "$exp:$results/$exp/uncertainty.csv" "disk_validation:$results/$exp/validation/uncertainty.csv"; do
+      table=${pair%%:*}; file=${pair#*:}
+      [ -f "$file" ] || continue
+      [ "$table" = disk_validation ] && [ "$exp" != four_cells_vs_disks ] && continue
+      awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "reference-data/uncertainty/$table.csv"
+      log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in reference-data/uncertainty/$table.csv (commit $commit, code $code)"
+    done
+  done
+fi
+
+# The report, whole, from this run.
+wall_all=$(( $(date +%s) - start_all ))
+# An interrupted command and the ones that continued it count as one (the same code).
+earlier=$(awk -v c="$code" '$1 == c {s += $2; n++} END {print s + 0, n + 0}' "$results/interrupted_$mode.txt" 2>/dev/null || echo "0 0")
+wall_total=$(( wall_all + ${earlier%% *} )); invocations=$(( ${earlier##* } + 1 ))
+rm -f "$results/interrupted_$mode.txt"
+cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 out="$report/README.md.tmp"
 {
-  echo "# rbcflow reproduction report"
-  echo
-  echo "Reproduction of L. Shi, T.-W. Pan, R. Glowinski, *Numerical simulation of lateral migration of red"
-  echo "blood cells in Poiseuille flows*, Int. J. Numer. Meth. Fluids 68 (2012), DOI 10.1002/fld.2455."
+  if [ "$mode" = reproduce ]; then
+    echo "# rbcflow reproduction report"
+    echo
+    echo "Reproduction of L. Shi, T.-W. Pan, R. Glowinski, *Numerical simulation of lateral migration of red"
+    echo "blood cells in Poiseuille flows*, Int. J. Numer. Meth. Fluids 68 (2012), DOI 10.1002/fld.2455: the study's"
+    echo "own runs, from one commit. The evidence behind each u_num (ensembles, Δt/h refinement, error against"
+    echo "run time, the stability map) is [paper/evidence/](../evidence/README.md), written by \`make evidence\`."
+  else
+    echo "# rbcflow evidence report"
+    echo
+    echo "Every run behind the u_num of [the reproduction report](../report/README.md): the start ensembles, the"
+    echo "Δt and h refinements, the error against run time, the rigid disk against published data and the"
+    echo "stability map. \`make evidence\` wrote it and recorded each row's u_num in reference-data/uncertainty/."
+  fi
   echo
   echo "| | |"
   echo "|---|---|"
-  echo "| last command | \`$command\` |"
+  echo "| command | \`$command\` |"
   echo "| commit | $commit$dirty |"
-  echo "| date | $date_now |"
-  echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB |"
-  echo
-  echo "Each experiment's section was written by the run below (\`make reproduce ONLY=...\` rewrites"
-  echo "some sections and keeps the others; each section names its run again):"
-  echo
-  echo "| experiment | command | commit | date | parameters |"
-  echo "|---|---|---|---|---|"
-  for exp in "$@"; do
-    if [ -f "$report/data/$exp/provenance.md" ]; then cat "$report/data/$exp/provenance.md"; else echo "| $exp | (not run yet) | | | |"; fi
-  done
-  echo
-  echo "Every number is printed as ours ± u_num, our numerical uncertainty (Δt refinement, start ensemble,"
-  echo "averaging window; the mesh apart, in the column 'converged in h'), against a tolerance from the study"
-  echo "alone (reference-data/README.md). Verdicts: **PASS** within the tolerance with u_num no larger than it;"
-  echo "**UNRESOLVED** u_num larger than the tolerance (or not measured) and ours ± u_num reaching it: our"
-  echo "numerics cannot decide, counted as not reproduced; **DEVIATION** outside it and recorded in"
-  echo "reference-data/deviations/ with our expected band, the cause we believe in and its evidence; **FAIL**"
-  echo "outside the tolerance and not explained, or a recorded deviation that moved. Each experiment's section"
-  echo "below has its full table (u_num's parts, how each row was run, the cause of every deviation), the run"
-  echo "time and the figures."
-  echo
-  echo "## All the study's numbers"
-  echo
-  "$BUILD/bin/rbcflow" summary --results "$report/data" || { echo "(the summary table failed)"; status=1; }
-  echo
-  for exp in "$@"; do
-    if [ -f "$sections/$exp.md" ]; then cat "$sections/$exp.md"
-    elif [ -f "$report/README.md" ]; then  # as last written: from its heading to the next section's
-      # A section judged before u_num and the study's tolerances (its check.csv has the old
-      # columns) says so under its heading: its verdicts count as not run in the table above.
-      stale=""
-      [ "$(head -1 "$report/data/$exp/check.csv" 2>/dev/null | tr -d '\r')" = "id,ours,verdict,note" ] && \
-        stale="**Written before u_num and the study's tolerances (reference-data/README.md): the verdicts below were judged by the old tolerance rule and count as not run until make reproduce ONLY=$exp runs it again.**"
-      awk -v h="## $exp" -v stale="$stale" '$0 == h {on = 1; print; if (stale != "" && !done) {print ""; print stale; done = 1}; next} on && /^## / {exit} on && $0 ~ /^\*\*Written before u_num/ {next} on' "$report/README.md"
-    fi
-  done
-  missing=""
-  for exp in single_cell_migration four_cells_vs_disks cell_free_layer constriction; do
-    [ -f "$report/data/$exp/check.csv" ] || missing="$missing $exp"
-  done
-  if [ -n "$missing" ]; then
-    echo "## Not yet reproduced"
+  echo "| code (its sources in lib/, experiments/, CMakeLists.txt) | $code |"
+  echo "| date | $(date -u '+%Y-%m-%d %H:%M UTC') |"
+  echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB; $JOBS cases side by side |"
+  echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')") |"
+  echo "| wall time | $wall_total s |"
+  [ "$invocations" -gt 1 ] && echo "| invocations | $invocations (the first $((invocations - 1)) interrupted, continued by the next; this one $wall_all s) |"
+  [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
+  for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
+  if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
     echo
-    for exp in $missing; do
-      echo "- $exp: its published numbers are in reference-data/$exp.csv; no run of it is in this report yet."
+    echo "u_num of the rows whose evidence runs are not part of this run, as recorded by \`make evidence\`:"
+    echo
+    echo "| record | evidence commit | its code | this run's code |"
+    echo "|---|---|---|---|"
+    for exp in "${run_list[@]}" disk_validation; do
+      f=reference-data/uncertainty/$exp.csv
+      [ -f "$f" ] || { echo "| $exp | (none: u_num not measured) | | |"; continue; }
+      ec=$(awk -F, 'NR == 2 {print $(NF - 1)}' "$f"); ek=$(awk -F, 'NR == 2 {print $NF}' "$f")
+      same=$([ "$ek" = "$code" ] && echo "the same" || echo "differs: $(git diff --shortstat "$ec" HEAD -- "${sources[@]}" 2>/dev/null | sed 's/^ *//')")
+      echo "| [$exp]($(realpath --relative-to="$report" "$f")) | $ec | $ek | $same |"
     done
   fi
+  echo
+  if [ "$mode" = reproduce ]; then
+    echo "Every number is printed as ours ± u_num, our numerical uncertainty (Δt refinement, start ensemble,"
+    echo "averaging window; the mesh apart, in the column 'converged in h'), against a tolerance from the study"
+    echo "alone (reference-data/README.md). Verdicts: **PASS** within the tolerance with u_num no larger than it;"
+    echo "**UNRESOLVED** u_num larger than the tolerance (or not measured) and ours ± u_num reaching it: our"
+    echo "numerics cannot decide, counted as not reproduced; **DEVIATION** outside it and recorded in"
+    echo "reference-data/deviations/ with our expected band, the cause we believe in and its evidence; **FAIL**"
+    echo "outside the tolerance and not explained, or a recorded deviation that moved. Each experiment's section"
+    echo "below has its full table (u_num's parts, how each row was run, the cause of every deviation), its runs"
+    echo "and the figures."
+    echo
+    echo "## All the study's numbers"
+    echo
+    "$BUILD/bin/rbcflow" summary --results "$report/data" || { echo "(the summary table failed)"; status=1; }
+    echo
+  fi
+  for exp in "${run_list[@]}"; do cat "$sections/$exp.md"; done
 } > "$out"
 mv "$out" "$report/README.md"
-echo "rbcflow: report written to $report/README.md" >&2
+# The case times of a full run, for the next run's order and progress estimates.
+if [ "$QUICK" != "1" ] && [ -z "$ONLY" ] && [ "$COLLECT" != "1" ]; then
+  { echo "experiment,case,seconds"; cat "$results"/*/case_times.csv 2>/dev/null; } > "$report/data/case_times.csv.new"
+  [ -f "$times_record" ] && awk -F, 'NR == FNR {k[$1 "," $2] = 1; print; next} !(($1 "," $2) in k) && FNR > 1' "$report/data/case_times.csv.new" "$times_record" > "$report/data/case_times.csv.merged" \
+    && mv "$report/data/case_times.csv.merged" "$report/data/case_times.csv.new"
+  mkdir -p "$(dirname "$times_record")"; mv "$report/data/case_times.csv.new" "$times_record"
+fi
+log "report written to $report/README.md in $wall_total s"
 exit $status

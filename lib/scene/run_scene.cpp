@@ -252,6 +252,7 @@ RunState resume_run(const fs::path& out, const Scene& scene, Simulation& sim, bo
       throw CheckpointError((out / name).string() + ": shorter than when the checkpoint was written; cannot resume");
     fs::resize_file(out / name, std::uintmax_t(bytes));
   }
+  if (progress) std::fprintf(stderr, "rbcflow: resuming %s at t = %.6g s (step %ld) from %s\n", out.string().c_str(), sim.time(), long(sim.steps()), r.path().c_str());
   return resumed;
 }
 

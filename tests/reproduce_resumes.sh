@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# make reproduce, interrupted as by Ctrl-C and run again, gives the numbers of a straight run
+# (paper/make_report.sh; the cases' own checkpoints: the Checkpoint.* tests). On the quick
+# cell_free_layer (two cases of some 10-20 s, side by side): a straight run; then a run stopped by
+# SIGINT to its whole process group once a case has printed progress (10 s into it), and the same
+# command again; the rows of the two reports and the cases' summaries must agree.
+#   tests/reproduce_resumes.sh SOURCE_DIR BUILD_DIR
+set -euo pipefail
+src=$1; build=$2
+work=$(mktemp -d); trap 'rm -rf "$work"' EXIT
+run() {  # results folder
+  RESULTS="$work/$1" QUICK=1 ONLY=cell_free_layer BUILD="$build" JOBS=2 \
+    bash "$src/paper/make_report.sh" reproduce channel_flow cell_free_layer
+}
+run straight > "$work/straight.log" 2>&1 || { cat "$work/straight.log"; exit 1; }
+
+set -m  # job control: the interrupted run gets its own process group, as a terminal's foreground job
+run stopped > "$work/stopped.log" 2>&1 &
+pid=$!
+for _ in $(seq 1200); do  # until a case is under way (its first progress line), at most 120 s
+  grep -q 'steps/s' "$work"/stopped/cell_free_layer/n*.log 2>/dev/null && break
+  sleep 0.1
+done
+kill -INT -- -"$pid"
+rc=0; wait "$pid" || rc=$?
+set +m
+[ "$rc" = 130 ] || { echo "the interrupted run exited with $rc, not 130"; cat "$work/stopped.log"; exit 1; }
+grep -q 'checkpoint' "$work"/stopped/cell_free_layer/n*.log || { echo "no case wrote a checkpoint on the interrupt"; exit 1; }
+run stopped > "$work/again.log" 2>&1 || { cat "$work/again.log"; exit 1; }
+grep -q 'resuming' "$work"/stopped/cell_free_layer/n*.log || { echo "no case resumed"; cat "$work"/stopped/cell_free_layer/n*.log; exit 1; }
+
+# The rows (id, ours, verdict) of both reports, and every case's summary but its wall time.
+rows() { cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
+diff <(rows straight) <(rows stopped)
+for c in n50 n100; do
+  diff <(grep -v wall_seconds "$work/straight/cell_free_layer/$c/summary.json") <(grep -v wall_seconds "$work/stopped/cell_free_layer/$c/summary.json")
+done
+echo "interrupted and resumed: the same rows and summaries as the straight run"
