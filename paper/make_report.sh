@@ -27,8 +27,9 @@
 #   QUICK=1    the CI parameters (reproduce only): results under results/quick/, the report in
 #              results/report/README.md (never over the committed one); an uncommitted tree is
 #              allowed and said.
-#   ONLY="exp ..."  these experiments only; the report goes to results/report/README.md (the
-#              committed report is only ever written whole).
+#   ONLY="exp ..."  these experiments only; the report goes to results/report/ (or results/evidence/),
+#              the committed reports are only ever written whole (make evidence ONLY=... still
+#              records those experiments' u_num).
 #   COLLECT=1  run no case: write the report from the cases finished so far (e.g. after a Slurm
 #              array, paper/running_at_scale.md); rows of missing cases say "not run".
 #   JOBS       cases side by side (default: the number of cores).
@@ -86,7 +87,7 @@ fi
 
 results=${RESULTS:-results}; [ "$QUICK" = "1" ] && [ -z "${RESULTS:-}" ] && results=results/quick
 quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
-if [ "$mode" = evidence ]; then report=paper/evidence
+if [ "$mode" = evidence ]; then report=paper/evidence; [ -n "$ONLY" ] && report=${RESULTS:-results}/evidence
 elif [ "$QUICK" = "1" ] || [ -n "$ONLY" ]; then report=${RESULTS:-results}/report
 else report=paper/report; fi
 times_record=paper/report/data/case_times.csv   # exp,case,seconds of the last full run (ordering, estimates)
@@ -268,8 +269,12 @@ if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncert
       table=${pair%%:*}; file=${pair#*:}
       [ -f "$file" ] || continue
       [ "$table" = disk_validation ] && [ "$exp" != four_cells_vs_disks ] && continue
-      awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "reference-data/uncertainty/$table.csv"
-      log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in reference-data/uncertainty/$table.csv (commit $commit, code $code)"
+      record=reference-data/uncertainty/$table.csv
+      # Rows the previous record had and this run could not measure (evidence runs missing) are
+      # dropped, not carried over from other code: said here.
+      dropped=$( [ -f "$record" ] && comm -23 <(cut -d, -f1 "$record" | tail -n +2 | sort) <(cut -d, -f1 "$file" | tail -n +2 | sort) | tr '\n' ' ')
+      awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "$record"
+      log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$([ -n "$dropped" ] && echo "; not measured, dropped from the record: $dropped")"
     done
   done
 fi
@@ -289,7 +294,8 @@ out="$report/README.md.tmp"
     echo "Reproduction of L. Shi, T.-W. Pan, R. Glowinski, *Numerical simulation of lateral migration of red"
     echo "blood cells in Poiseuille flows*, Int. J. Numer. Meth. Fluids 68 (2012), DOI 10.1002/fld.2455: the study's"
     echo "own runs, from one commit. The evidence behind each u_num (ensembles, Δt/h refinement, error against"
-    echo "run time, the stability map) is [paper/evidence/](../evidence/README.md), written by \`make evidence\`."
+    echo "run time, the stability map) is [paper/evidence/](../evidence/README.md), written by \`make evidence\`;"
+    echo "each row's u_num as recorded from it: reference-data/uncertainty/ (the table below)."
   else
     echo "# rbcflow evidence report"
     echo
