@@ -326,7 +326,7 @@ out="$report/README.md.tmp"
       f=reference-data/uncertainty/$exp.csv
       [ -f "$f" ] || { echo "| $exp | (none: u_num not measured) | | |"; continue; }
       ec=$(awk -F, 'NR == 2 {print $(NF - 1)}' "$f"); ek=$(awk -F, 'NR == 2 {print $NF}' "$f")
-      same=$([ "$ek" = "$code" ] && echo "the same" || echo "differs: $(git diff --shortstat "$ec" "$commit" -- "${sources[@]}" 2>/dev/null | sed 's/^ *//')")
+      same=$([ "$ek" = "$code" ] && echo "the same" || echo "differs: $(git diff --shortstat "$ec" "$commit" -- "${numeric[@]}" 2>/dev/null | sed 's/^ *//')")
       echo "| [$exp]($(realpath --relative-to="$report" "$f")) | $ec | $ek | $same |"
     done
   fi
