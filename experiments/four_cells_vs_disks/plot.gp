@@ -66,9 +66,10 @@ plot for [i=1:words(cases)] sprintf('%s/heights_%s.dat', dir, run(word(cases, i)
 200 12.73
 e
 
-# Error against run time (work-precision), full runs only: one line per bodies/coupling and h.
+# Error against run time (work-precision), full runs only: one line per bodies/coupling and h
+# (drawn when the table has a run with an error: make reproduce's study-only runs have none).
 conv = dir.'/convergence.csv'
-if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
+if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 0)}' ".conv." || echo 0") eq "1") {
   set terminal pngcairo size 800, 560 font ',11'
   set output figdir.'/four_cells_vs_disks_work_precision.png'
   set datafile separator ','
