@@ -93,6 +93,8 @@ else report=paper/report; fi
 times_record=paper/report/data/case_times.csv   # exp,case,seconds of the last full run (ordering, estimates)
 command="make $mode$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
 mkdir -p "$results" "$report"
+# A report is written whole: nothing of an earlier one stays beside it (the run times record stays).
+[ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 log() { echo "rbcflow $mode: $*" >&2; }
 
 # Results made by other code move aside (results/older/<experiment>.<code>), once per folder.
@@ -175,7 +177,7 @@ if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
   parallel --will-cite -j "$JOBS" --colsep ' ' --joblog "$joblog" --termseq INT,60000,TERM,5000,KILL,25 run_one {1} {2} < "$jobs_file"
   kill "$progress_pid" 2>/dev/null; wait "$progress_pid" 2>/dev/null
   if [ "$interrupted" = "1" ]; then
-    echo "$code $(( $(date +%s) - start_all ))" >> "$results/interrupted_$mode.txt"
+    echo "$code $(( $(date +%s) - start_all ))" >> "$results/wall_$mode.txt"
     log "interrupted after $(( $(date +%s) - start_all )) s: run '$command' again to continue (finished cases are read back, stopped ones resume)"
     exit 130
   fi
@@ -281,10 +283,11 @@ fi
 
 # The report, whole, from this run.
 wall_all=$(( $(date +%s) - start_all ))
-# An interrupted command and the ones that continued it count as one (the same code).
-earlier=$(awk -v c="$code" '$1 == c {s += $2; n++} END {print s + 0, n + 0}' "$results/interrupted_$mode.txt" 2>/dev/null || echo "0 0")
-wall_total=$(( wall_all + ${earlier%% *} )); invocations=$(( ${earlier##* } + 1 ))
-rm -f "$results/interrupted_$mode.txt"
+# Every invocation at this code counts (results/wall_<mode>.txt): an interrupted command and the
+# ones that continued it, or a later one that read the finished runs back, are one reproduction.
+echo "$code $wall_all" >> "$results/wall_$mode.txt"
+earlier=$(awk -v c="$code" '$1 == c {s += $2; n++} END {print s + 0, n + 0}' "$results/wall_$mode.txt")
+wall_total=${earlier%% *}; invocations=${earlier##* }
 cpu=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')
 out="$report/README.md.tmp"
 {
@@ -313,7 +316,7 @@ out="$report/README.md.tmp"
   echo "| machine | $(nproc) cores, $cpu, $(free -g | awk '/Mem:/{print $2}') GiB; $JOBS cases side by side |"
   echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')") |"
   echo "| wall time | $wall_total s |"
-  [ "$invocations" -gt 1 ] && echo "| invocations | $invocations (the first $((invocations - 1)) interrupted, continued by the next; this one $wall_all s) |"
+  [ "$invocations" -gt 1 ] && echo "| invocations | $invocations at this code (interrupted and continued, or read back; this one $wall_all s) |"
   [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
