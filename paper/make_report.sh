@@ -217,7 +217,9 @@ for exp in "${run_list[@]}"; do
   # Each case's run time, for the next run's order and estimates.
   if [ -f "$dir/cases.csv" ]; then
     awk -F, -v e="$exp" 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "wall_seconds") w = i; next} w && $w != "" {print e "," $1 "," $w}' "$dir/cases.csv" > "$dir/case_times.csv"
-  else  # one run (constriction, stability_map): its job's time, when it ran rather than was read back
+  elif [ -f "$dir/run/summary.json" ]; then  # one run (constriction): its own wall time
+    sed -n 's/.*"wall_seconds": *\([0-9.e+]*\).*/\1/p' "$dir/run/summary.json" | head -1 | sed "s/^/$exp,-,/" > "$dir/case_times.csv"
+  else  # (stability_map): its job's time, when it ran rather than was read back
     awk -v e="$exp" 'NR > 1 {split($0, f, "\t"); if (f[9] == "run_one " e " -" && f[4] > 5) print e ",-," int(f[4])}' "$results/joblog_$mode" 2>/dev/null > "$dir/case_times.csv"
   fi
   # The experiment's run time: its cases' own (one thread each; a resumed case's includes the time
