@@ -707,7 +707,7 @@ Results run(const Params& p) {
     std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");
     for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"}) f << base << " " << reported_case(res, base) << "\n";
   }
-  if (p.convergence && !p.quick) {
+  if (p.convergence && !p.quick && !p.study_only) {
     res.convergence_md = convergence_table(p, res);
     std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_md;
   }

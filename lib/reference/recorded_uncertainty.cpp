@@ -52,7 +52,7 @@ int apply_recorded_uncertainty(std::map<std::string, Measured>& ours, const std:
     if (!m.value || (m.u.total() && m.u.missing.empty()) || rec == record.end()) continue;
     const RecordedUncertainty& r = rec->second;
     m.u = NumericalUncertainty{};
-    m.u.other = "recorded by make evidence at " + (r.commit.empty() ? std::string("an unnamed commit") : r.commit) + " (" + r.parts + "), u_num";
+    m.u.other = "recorded at " + (r.commit.empty() ? std::string("an unnamed commit") : r.commit) + " (reference-data/uncertainty: " + r.parts + "), u_num";
     m.u.other_value = r.u_num;
     m.converged_in_h = r.converged_in_h;
     ++applied;
