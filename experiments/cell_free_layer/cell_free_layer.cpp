@@ -497,10 +497,11 @@ Results run(const Params& p) {
   if (!p.only.empty()) return res;
 
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  // A row (and its figures) reports the finest Δt that finished (issue 40): the halved run or the scene's 3 us.
+  auto reported_run = [&](const std::string& base) { return ok(base + "_dt1.5us") ? base + "_dt1.5us" : base; };
   for (int n : {50, 100}) {
     const std::string name = base_name(n), tag = std::to_string(n);
-    // The row reports the finest Δt that finished (issue 40): the halved run or the scene's 3 us.
-    const std::string reported = ok(name + "_dt1.5us") ? name + "_dt1.5us" : name;
+    const std::string reported = reported_run(name);
     if (!ok(reported)) {
       const std::string why = res.cases.count(reported) ? "run stopped: " + res.cases.at(reported).failure : "not run";
       for (const char* id : {"hct_", "cfl_", "re_"}) res.measured[id + tag] = {{}, {}, why};
@@ -521,7 +522,7 @@ Results run(const Params& p) {
   }
   {  // The runs the figures draw: each row's reported run (plot.gp).
     std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");
-    for (int n : {50, 100}) f << base_name(n) << " " << (ok(base_name(n) + "_dt1.5us") ? base_name(n) + "_dt1.5us" : base_name(n)) << "\n";
+    for (int n : {50, 100}) f << base_name(n) << " " << reported_run(base_name(n)) << "\n";
   }
   if (!p.quick && !p.study_only) {  // the quick run has one arrangement and no evidence runs
     res.ensemble_md = ensemble_table(p, res) + early_layer_table(res);
