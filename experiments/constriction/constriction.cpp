@@ -8,6 +8,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "common/case_runner.hpp"
 #include "io/csv.hpp"
 #include "reference/uncertainty.hpp"
 
@@ -67,7 +68,8 @@ void convergence_study(const Params& p, Results& res) {
       r.dt = dt;
       r.substeps = sc.advection_substeps;
       try {
-        const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), sc) : std::nullopt;
+        const std::optional<RunSummary> done = p.reuse || p.collect ? read_finished_run(out.string(), sc) : std::nullopt;
+        if (!done && p.collect) throw RunFailure(case_runner::kNotRun);
         const RunSummary s = done ? *done : run_scene(sc, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress,
                                                            .label = std::string("constriction convergence ") + name, .checkpoint_wall = 0});
         r.steps = s.steps;
@@ -171,8 +173,10 @@ Results run(const Params& p) {
                             "output.snapshots=[0.0, 1e-3, 2e-3]"};
   const Scene scene = load_scene_file(std::string(RBCFLOW_SOURCE_DIR) + "/experiments/constriction/constriction.toml", overrides);
   const fs::path out = fs::path(p.out_dir) / "run";
-  const std::optional<RunSummary> done = p.reuse ? read_finished_run(out.string(), scene) : std::nullopt;
+  const std::optional<RunSummary> done = p.reuse || p.collect ? read_finished_run(out.string(), scene) : std::nullopt;
   if (done) res.summary = *done;
+  else if (p.collect)
+    throw std::runtime_error("--collect: no finished run of today's scene in " + out.string() + " (run it without --collect)");
   else {
     const bool resume = p.resume && fs::exists(out / "checkpoint.bin");
     res.summary = run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress, .label = "constriction",

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   app.add_flag("--study-only", study_only,
                "the study's run only, as --no-convergence: u_num's Δt part as recorded in reference-data/uncertainty/ (make reproduce)");
   app.add_flag("--reuse", p.reuse, "read the finished run in the output folder instead of running it again");
+  app.add_flag("--collect", p.collect, "read back the finished runs in the output folder and run none (convergence runs not finished: not run)");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);

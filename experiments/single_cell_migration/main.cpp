@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   bool list = false;
   app.add_flag("--list-cases", list, "print the cases' names, one per line, the longest first (for GNU parallel)");
   app.add_flag("--reuse", reuse, "read cases whose output folder holds a finished run of the same scene instead of rerunning");
+  bool collect = false;
+  app.add_flag("--collect", collect, "read back the cases finished in the output folder and run none (a sweep still going: the table so far)");
   bool study_only = false;
   app.add_flag("--study-only", study_only,
                "the study's runs only (narrow and wide channels), no evidence runs: u_num as recorded in reference-data/uncertainty/ (make reproduce)");
@@ -38,6 +40,7 @@ int main(int argc, char** argv) {
   if (quick) p = scm::Params::quick_params();
   p.only = only;
   p.reuse = reuse;
+  p.collect = collect;
   p.resume = resume;
   p.study_only = study_only;
   if (!out.empty()) p.out_dir = out;

@@ -430,7 +430,8 @@ Results run(const Params& p) {
     // Run, or read back a finished or failed run (an unstable case is reported, not hidden: its
     // rows fail with the cause). A signal stops the whole experiment (RunInterrupted).
     const case_runner::CaseRun run = case_runner::run_or_reuse(
-        job.scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = job.name});
+        job.scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse || p.collect,
+                                      .collect = p.collect, .label = job.name});
     c.summary = run.summary;
     c.failure = run.failure;
     if (c.failure.empty()) {

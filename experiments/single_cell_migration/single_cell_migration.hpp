@@ -73,6 +73,9 @@ struct Params {
   // reuse: a case whose output folder holds a finished run of the same scene is read, not rerun.
   std::string only;
   bool reuse = false;
+  // collect: with reuse, run none; a case neither finished nor failed is "not run" (make evidence
+  // COLLECT=1, a sweep still going elsewhere).
+  bool collect = false;
   // study_only: the runs the study's rows and figures read (the narrow and wide channels under the
   // chosen reading), none of the evidence (make reproduce: u_num as recorded by make evidence,
   // reference/recorded_uncertainty.hpp). The quick parameters have only those.
