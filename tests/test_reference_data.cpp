@@ -112,6 +112,17 @@ TEST(Uncertainty, GridConvergenceIndexFindsTheOrderAndTheLimitOfAFirstOrderSeque
   EXPECT_THROW(grid_convergence_index({1.0}, 2, 1), std::invalid_argument);
 }
 
+TEST(Uncertainty, GridConvergenceIndexOfTheSecondFinestRunIsItsDistanceToTheLimitWithTheSafetyFactor) {
+  // f = 3 + 0.5 Δt at Δt = 1, 2, 4, reported at Δt = 2 (the Δt = 1 run is evidence only): the
+  // coarse-grid GCI 1.25 |f2 − f1| 2 / (2 − 1) = 1.25, i.e. Fs times f2's distance 1.0 to the limit.
+  const RefinementUncertainty u = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 1);
+  EXPECT_EQ(u.reported, 1);
+  EXPECT_NEAR(u.u, 1.25 * (4.0 - 3.0), 1e-12);
+  EXPECT_NEAR(u.extrapolated, 3.0, 1e-12);
+  EXPECT_NE(u.describe().find("of the second finest"), std::string::npos);
+  EXPECT_THROW(grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 2), std::invalid_argument);
+}
+
 TEST(Uncertainty, WindowNoiseIsTheSpreadOfTheLastWindowsMeansAndPartsAddInQuadrature) {
   std::vector<double> t, v;
   for (int k = 1; k <= 50; ++k) {

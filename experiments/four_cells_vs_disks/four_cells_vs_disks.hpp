@@ -34,8 +34,9 @@
 //                                             uniform amount in [-δ, δ]² (δ = kPerturbation) drawn
 //                                             from a seeded Mersenne twister (reproducible)
 //   kb1_dt3us, disks_dt3us, kb1_h0.625um, disks_h0.625um   Δt halved and h doubled (the error)
-//   kb1000_dt3us, kb100_dt3us, kb1000_dt1.5us, disks_dt1.5us  the Δt sequence of the stiff cells
-//                                             and the disks (evidence for the deviations' causes)
+//   <case>_dt3us, <case>_dt1.5us, kb1000_dt0.75us   the Δt sequence of every study case (its
+//                                             rows report 1.5 us, the 1000 k_b cells 0.75 us)
+//   kb1_dt0.75us, kb1000_dt0.375us            one level below the reported run (evidence only)
 //   one_disk_x2_10um.toml, one_disk_x2_20um.toml  (scenes for build/bin/rbcflow run) one disk from
 //                                             either side of its equilibrium, to 400 ms
 //   conv_*                                    error against run time on a 1.2 ms horizon

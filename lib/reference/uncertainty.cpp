@@ -18,10 +18,12 @@ std::string g(double v, int digits) {
 
 }  // namespace
 
-RefinementUncertainty grid_convergence_index(const std::vector<double>& f, double r, double formal) {
+RefinementUncertainty grid_convergence_index(const std::vector<double>& f, double r, double formal, int reported) {
   if (f.size() < 2) throw std::invalid_argument("grid_convergence_index: needs at least two levels");
   if (!(r > 1) || !(formal > 0)) throw std::invalid_argument("grid_convergence_index: needs a ratio > 1 and a formal order > 0");
+  if (reported != 0 && reported != 1) throw std::invalid_argument("grid_convergence_index: the reported level is 0 (finest) or 1");
   RefinementUncertainty u;
+  u.reported = reported;
   u.levels = f.size() >= 3 ? 3 : 2;
   u.observed_order = NAN;
   u.order_used = formal;
@@ -38,7 +40,7 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& f, doubl
     }
   }
   const double denom = std::pow(r, u.order_used) - 1;
-  u.u = u.safety_factor * std::abs(e21) / denom;
+  u.u = u.safety_factor * std::abs(e21) * (reported == 1 ? std::pow(r, u.order_used) : 1.0) / denom;
   u.extrapolated = f[0] - e21 / denom;
   return u;
 }
@@ -49,7 +51,7 @@ std::string RefinementUncertainty::describe(int digits) const {
     s += "p = " + g(observed_order, 2);
   else
     s += levels == 3 ? "oscillating, p = " + g(order_used, 2) + " assumed" : "two levels, p = " + g(order_used, 2) + " assumed";
-  s += ", GCI " + g(u, digits) + " (Fs " + g(safety_factor, 3) + ")";
+  s += ", GCI " + g(u, digits) + (reported == 1 ? " of the second finest" : "") + " (Fs " + g(safety_factor, 3) + ")";
   return s;
 }
 

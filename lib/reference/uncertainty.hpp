@@ -4,10 +4,12 @@
 // own number; the part from the discretisation by Roache's grid convergence index).
 //
 // The Δt part, from runs at Δt_1 < Δt_2 < Δt_3 (ratio r = Δt_{k+1}/Δt_k) with values f_1, f_2,
-// f_3, reported at the finest (f_1):
+// f_3:
 //   e_21 = f_2 − f_1,  e_32 = f_3 − f_2
 //   observed order   p = ln(e_32 / e_21) / ln r          (three levels, same sign: monotone)
-//   GCI              u_Δt = F_s |e_21| / (r^q − 1)
+//   GCI of f_1       u_Δt = F_s |e_21| / (r^q − 1)
+//   GCI of f_2       u_Δt = F_s |e_21| r^q / (r^q − 1)   (the reported run is the middle level:
+//                    a finer run was made as evidence only, Roache's coarse-grid GCI)
 // with q = min(p, formal order) (no credit for an order above the scheme's: the runs are not
 // shown to be asymptotic beyond it) and F_s = 1.25 when p lies in [formal/2, 2 formal], else 3
 // (Roache's factor for an order that was not observed). Two levels, or three that oscillate:
@@ -29,7 +31,8 @@ namespace rbc {
 
 struct RefinementUncertainty {
   int levels = 0;               // runs used (0: none)
-  double u = 0;                 // the GCI of the finest run, in the value's unit
+  double u = 0;                 // the GCI of the reported run (the finest, or the next), in the value's unit
+  int reported = 0;             // which level u is for: 0 the finest, 1 the next coarser
   double observed_order = 0;    // NaN with two levels or oscillating values
   double order_used = 0, safety_factor = 0;
   double extrapolated = 0;      // f_1 + (f_1 − f_2)/(r^q − 1): the Δt → 0 (or h → 0) estimate
@@ -38,9 +41,11 @@ struct RefinementUncertainty {
   std::string describe(int digits = 2) const;
 };
 
-// finest_first: the values at the finest level first, then each coarser one (ratio r apart).
-// Throws std::invalid_argument for fewer than two values, a ratio ≤ 1 or a formal order ≤ 0.
-RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_first, double ratio, double formal_order);
+// finest_first: the values at the finest level first, then each coarser one (ratio r apart);
+// reported: the level whose GCI u is (0: the finest, 1: the next coarser).
+// Throws std::invalid_argument for fewer than two values, a ratio ≤ 1, a formal order ≤ 0 or a
+// reported level other than 0 and 1.
+RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_first, double ratio, double formal_order, int reported = 0);
 
 // Sample standard deviation (n − 1); NaN for fewer than two values.
 double sample_std(const std::vector<double>& v);
