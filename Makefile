@@ -16,7 +16,8 @@ ONLY       ?=      # "exp ...": these experiments only (report in results/report
 COLLECT    ?= 0    # 1: run no case, write the report from the cases finished so far (after a Slurm array)
 
 DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-dev libgtest-dev \
-                libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev parallel
+                libbenchmark-dev gnuplot-nox libcli11-dev libtomlplusplus-dev nlohmann-json3-dev parallel \
+                python3-vtk9
 FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
 # The experiments that exist so far, in the study's order (SPEC section 5).

@@ -121,6 +121,8 @@ TEST(SceneInput, ValuesOutOfRangeOrOfTheWrongTypeAreRejected) {
   expect_error(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 0.1\nbody_force = 3.0")), {"not both"});
   expect_error(scene_error(replace(kGood, "end = 2e-6", "end = 1e-8")), {"[time] end", "at least one time step"});
   expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = 1")), {"[output] vtk", "true or false"});
+  expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = true\nvtk_every = 1e-7")),
+               {"[output] vtk_every", "1e-07 s", "at least [output] every = 5e-07 s"});
   expect_error(scene_error(kGood + "[solver]\npressure_preconditioner = \"shur\"\n"), {"did you mean 'schur'"});
 }
 

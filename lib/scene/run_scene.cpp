@@ -14,7 +14,7 @@
 #include "diagnostics/flow_diagnostics.hpp"
 #include "io/checkpoint.hpp"
 #include "io/progress.hpp"
-#include "io/vtk.hpp"
+#include "scene/vtk_output.hpp"
 
 namespace rbc {
 
@@ -272,7 +272,7 @@ class RunOutputs {
     series_.precision(10);
     if (!sim.cells().empty()) snapshots_.open(out / "snapshots.dat", fresh ? std::ios::trunc : std::ios::app);
     next_snapshot_ = std::size_t(resumed.next_snapshot);
-    vtk_count_ = int(resumed.vtk_count);
+    if (scene.vtk) vtk_.emplace(out / "vtk", sim, int(resumed.vtk_count));
     u_sum_ = resumed.u_sum;
     u_count_ = long(resumed.u_count);
     last_mean_ = fresh ? mean_velocity(sim.flow().mesh(), sim.flow().velocity()) : resumed.last_mean;
@@ -296,7 +296,7 @@ class RunOutputs {
     st.u_count = u_count_;
     st.last_mean = last_mean_;
     st.next_snapshot = std::int64_t(next_snapshot_);
-    st.vtk_count = vtk_count_;
+    st.vtk_count = vtk_ ? vtk_->written() : 0;
     st.wall_seconds = wall_seconds;
     return st;
   }
@@ -309,7 +309,7 @@ class RunOutputs {
   const double fluid_area_, l0_;  // m², the channel minus obstacles; m, the springs' rest length
   std::ofstream series_, snapshots_;
   std::size_t next_snapshot_ = 0;
-  int vtk_count_ = 0;
+  std::optional<VtkSeries> vtk_;  // the ParaView files ([output] vtk)
   // The mean velocity of a sample is its average over the steps since the previous sample
   // (the instantaneous value at t = 0).
   double u_sum_ = 0, last_mean_ = 0;
@@ -371,11 +371,7 @@ void RunOutputs::sample() {
     series_ << "," << d.center.x() << "," << d.center.y() << "," << d.velocity.x() << "," << d.velocity.y() << "," << d.angular_velocity;
   series_ << "\n";
   series_.flush();
-  if (scene_.vtk) {
-    char name[32];
-    std::snprintf(name, sizeof name, "flow_%05d.vtk", vtk_count_++);
-    write_velocity_vtk((out_ / "vtk" / name).string(), flow.mesh(), flow.velocity(), sim_.time());
-  }
+  if (vtk_) vtk_->sample_due();
 }
 
 void RunOutputs::snapshots_due() {
@@ -490,7 +486,6 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const fs::path out(opt.out_dir);
-  if (scene.vtk) fs::create_directories(out / "vtk");
 
   Simulation sim(scene);
   if (!sim.cells().empty() && opt.progress) print_membrane_header(scene, sim.membrane());

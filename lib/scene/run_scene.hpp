@@ -7,7 +7,8 @@
 //   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
 //   membranes_final.dat  the membranes at the end
 //   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
-//   vtk/          ParaView files of the velocity, when [output] vtk = true
+//   vtk/          ParaView files (fluid, membranes, disks, obstacles, run.pvd) when [output] vtk = true:
+//                 scene/vtk_output.hpp
 #include <functional>
 #include <optional>
 #include <string>

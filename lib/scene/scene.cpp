@@ -29,7 +29,7 @@ const std::vector<TableSpec>& schema() {
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
       {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
-      {"output", {"every", "vtk", "snapshots", "fields"}},
+      {"output", {"every", "vtk", "vtk_every", "snapshots", "fields"}},
       {"contact", {"range", "strength"}},
       {"repulsion", {"range", "strength"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
@@ -266,6 +266,12 @@ std::string um(double metres) {
   return o.str();
 }
 
+std::string seconds(double s) {
+  std::ostringstream o;
+  o << s << " s";
+  return o.str();
+}
+
 // Obstacles: inside the channel, edges on mesh lines, at least 2h thick each way, leaving a passage,
 // not overlapping each other, standing on the wall the scene names.
 void validate_obstacles(const Reader& r, const Scene& s) {
@@ -428,6 +434,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
+  s.vtk_every = r.number("output", "vtk_every", "s", 0, big, true, s.vtk_interval());  // default: Scene::vtk_interval
+  if (s.vtk_every < s.sample_interval())
+    r.fail("[output] vtk_every", "= " + seconds(s.vtk_every) + " must be at least [output] every = " + seconds(s.sample_interval()) +
+                                     " (the ParaView files are written at samples)");
   s.snapshots = r.list("output", "snapshots", "s");
   s.field_snapshots = r.boolean("output", "fields", false);
 
@@ -635,7 +645,8 @@ std::string scene_to_toml(const Scene& s) {
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
   o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
   o << "[repulsion]\nrange = " << num(s.repulsion_range > 0 ? s.repulsion_range : s.mesh_size) << "\nstrength = " << num(s.repulsion_strength) << "\n";
-  o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nsnapshots = [";
+  o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nvtk_every = " << num(s.vtk_interval())
+    << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
   o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";
   o << "[membrane]\nnodes = " << s.membrane_nodes << "\nradius = " << num(s.membrane_radius) << "\nkl = "

@@ -9,7 +9,8 @@
 //             "incremental" by default with obstacles, "study" otherwise)
 //   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance, coupling_tolerance
 //             (relative residual of the semi-implicit coupling's cell-to-cell system)
-//   [output]  every (s between samples), vtk (bool), snapshots = [t, …] (s; membrane shapes),
+//   [output]  every (s between samples), vtk (bool: ParaView files, lib/scene/vtk_output.hpp),
+//             vtk_every (s between them; at least every, default end/100), snapshots = [t, …] (s; membrane shapes),
 //             fields (bool: the velocity field at the snapshot times, field_<k>.dat)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
 //              area_penalty (E_s in the flow force, bool)            — optional, the study's values
@@ -94,6 +95,7 @@ struct Scene {
   double coupling_tolerance = 1e-4;
   double output_every = 0;  // s; 0 means end/100 (at least dt)
   bool vtk = false;
+  double vtk_every = 0;     // s; 0 means vtk_interval()
   std::vector<double> snapshots;  // s, sorted
   bool field_snapshots = false;   // [output] fields: the velocity field at the snapshot times too
   // Cells (empty: a cell-free channel).
@@ -130,6 +132,8 @@ struct Scene {
   int advection_substeps_for(double dt) const;
   // s between samples; by default 100 samples, at most one per step.
   double sample_interval() const { return output_every > 0 ? output_every : std::max(end / 100, dt); }
+  // s between ParaView files ([output] vtk): by default 100 over the run, at most one per sample.
+  double vtk_interval() const { return vtk_every > 0 ? vtk_every : std::max(end / 100, sample_interval()); }
 };
 
 // Reads and validates a scene. overrides are "table.key=value" strings (value in TOML syntax;
