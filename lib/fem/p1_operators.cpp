@@ -36,18 +36,16 @@ SparseMatrix assemble_p1_stiffness(int nx, int ny) {
   return K;
 }
 
+void coarse_weights_at(const ChannelMesh& m, int i, int j, std::vector<std::pair<std::size_t, double>>& w) {
+  w.clear();
+  const bool ie = (i % 2 == 0), je = (j % 2 == 0);
+  if (ie && je) w.push_back({m.p(i / 2, j / 2), 1.0});
+  else if (!ie && je) { w.push_back({m.p((i - 1) / 2, j / 2), 0.5}); w.push_back({m.p((i + 1) / 2, j / 2), 0.5}); }
+  else if (ie && !je) { w.push_back({m.p(i / 2, (j - 1) / 2), 0.5}); w.push_back({m.p(i / 2, (j + 1) / 2), 0.5}); }
+  else { w.push_back({m.p((i + 1) / 2, (j - 1) / 2), 0.5}); w.push_back({m.p((i - 1) / 2, (j + 1) / 2), 0.5}); }
+}
+
 SparseMatrix assemble_divergence(const ChannelMesh& m) {
-  // Value of the coarse basis at a fine node: the fine node is a coarse node, the midpoint of a
-  // coarse horizontal/vertical edge, or the midpoint of a coarse diagonal (from (2I+2, 2J) to
-  // (2I, 2J+2), the same direction as the fine diagonals).
-  auto coarse_weights = [&m](int i, int j, std::vector<std::pair<std::size_t, double>>& w) {
-    w.clear();
-    const bool ie = (i % 2 == 0), je = (j % 2 == 0);
-    if (ie && je) w.push_back({m.p(i / 2, j / 2), 1.0});
-    else if (!ie && je) { w.push_back({m.p((i - 1) / 2, j / 2), 0.5}); w.push_back({m.p((i + 1) / 2, j / 2), 0.5}); }
-    else if (ie && !je) { w.push_back({m.p(i / 2, (j - 1) / 2), 0.5}); w.push_back({m.p(i / 2, (j + 1) / 2), 0.5}); }
-    else { w.push_back({m.p((i + 1) / 2, (j - 1) / 2), 0.5}); w.push_back({m.p((i - 1) / 2, (j + 1) / 2), 0.5}); }
-  };
   const std::size_t nv = m.velocity_nodes();
   const double area = 0.5 * m.h * m.h;
   std::vector<Eigen::Triplet<double>> t;
@@ -58,7 +56,7 @@ SparseMatrix assemble_divergence(const ChannelMesh& m) {
         // q at the centroid is the mean of q at the three vertices.
         std::vector<std::pair<std::size_t, double>> qc;
         for (int a = 0; a < 3; ++a) {
-          coarse_weights(m.wrap(i + T.v[a][0]), j + T.v[a][1], w);
+          coarse_weights_at(m, m.wrap(i + T.v[a][0]), j + T.v[a][1], w);
           for (auto [Q, c] : w) qc.push_back({Q, c / 3.0});
         }
         for (int b = 0; b < 3; ++b) {

@@ -6,6 +6,8 @@
 #include <numbers>
 #include <string>
 
+#include "fem/p1_operators.hpp"
+
 namespace rbc {
 
 namespace fs = std::filesystem;
@@ -22,15 +24,13 @@ VtkImage fluid_image(const ChannelFlow& flow) {
   VtkArray vel{"velocity [m/s]", 3, std::vector<double>(3 * points, 0.0), {}};
   VtkArray pre{"pressure [Pa]", 1, std::vector<double>(points, 0.0), {}};
   VtkArray vor{"vorticity [1/s]", 1, std::vector<double>(points, 0.0), {}};
-  // P1 on T_2h at a T_h node: a coarse node, the middle of a coarse edge (its two ends), or the
-  // middle of a coarse square, which lies on its diagonal from (I+1, J) to (I, J+1) (channel_mesh.hpp).
+  // P1 on T_2h at a T_h node (fem/p1_operators.hpp).
+  std::vector<std::pair<std::size_t, double>> w;
   auto pressure_at = [&](int i, int j) {
-    const int I = i / 2, J = j / 2;
-    const bool a = i % 2, b = j % 2;
-    if (!a && !b) return p[m.p(I, J)];
-    if (a && !b) return 0.5 * (p[m.p(I, J)] + p[m.p(I + 1, J)]);
-    if (!a && b) return 0.5 * (p[m.p(I, J)] + p[m.p(I, J + 1)]);
-    return 0.5 * (p[m.p(I + 1, J)] + p[m.p(I, J + 1)]);
+    coarse_weights_at(m, i, j, w);
+    double v = 0;
+    for (auto [Q, c] : w) v += c * p[Q];
+    return v;
   };
   for (int j = 0; j <= m.ny; ++j)
     for (int i = 0; i <= m.nx; ++i) {
@@ -154,21 +154,19 @@ void VtkSeries::write() {
   const Scene& s = sim_.scene();
   const double t = sim_.time();
   char index[16];
-  std::snprintf(index, sizeof index, "%05d", written_);
-  auto put = [&](int part, const std::string& file) { entries_.push_back({t, part, file}); };
-  write_vti((dir_ / ("flow_" + std::string(index) + ".vti")).string(), fluid_image(sim_.flow()), t);
-  put(0, "flow_" + std::string(index) + ".vti");
-  if (!sim_.cells().empty()) {
-    write_vtp((dir_ / ("membranes_" + std::string(index) + ".vtp")).string(), membranes_polydata(sim_.cells(), sim_.membrane(), s.length), t);
-    put(1, "membranes_" + std::string(index) + ".vtp");
-  }
-  if (!sim_.disks().empty()) {
-    write_vtp((dir_ / ("disks_" + std::string(index) + ".vtp")).string(), disks_polydata(sim_.disks(), s.length), t);
-    put(2, "disks_" + std::string(index) + ".vtp");
-  }
+  std::snprintf(index, sizeof index, "_%05d", written_);
+  // Part k's file of this sample, entered in the collection.
+  auto put = [&](int part, const std::string& file) {
+    entries_.push_back({t, part, file});
+    return (dir_ / file).string();
+  };
+  write_vti(put(0, "flow" + std::string(index) + ".vti"), fluid_image(sim_.flow()), t);
+  if (!sim_.cells().empty())
+    write_vtp(put(1, "membranes" + std::string(index) + ".vtp"), membranes_polydata(sim_.cells(), sim_.membrane(), s.length), t);
+  if (!sim_.disks().empty()) write_vtp(put(2, "disks" + std::string(index) + ".vtp"), disks_polydata(sim_.disks(), s.length), t);
   if (!s.obstacles.empty()) {  // they do not move: one file, named at every time
-    if (written_ == 0) write_vtp((dir_ / "obstacles.vtp").string(), obstacles_polydata(s.obstacles), 0.0);
-    put(3, "obstacles.vtp");
+    const std::string path = put(3, "obstacles.vtp");
+    if (written_ == 0) write_vtp(path, obstacles_polydata(s.obstacles), 0.0);
   }
   ++written_;
   write_pvd((dir_ / "run.pvd").string(), entries_);
