@@ -186,7 +186,8 @@ if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
 fi
 trap - INT TERM
 
-# Collect every experiment: its comparison (check.md/.csv), figures and section.
+# Collect every experiment: its comparison (check.md/.csv), figures, movie and section.
+movie_experiments=" single_cell_migration four_cells_vs_disks cell_free_layer constriction "
 sections=$(mktemp -d); trap 'rm -rf "$sections"' EXIT
 status=0
 declare -A exp_wall
@@ -204,14 +205,18 @@ for exp in "${run_list[@]}"; do
   [ "$rc" -ne 0 ] && status=1
   [ "$rc" -ge 2 ] && { log "$exp stopped (exit $rc):"; tail -3 "$dir/check.log" >&2; }
   figdir="$report/figures"; mkdir -p "$figdir"
-  rm -f "$figdir/${exp}"_*.png
+  rm -f "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif
   gnuplot -e "dir='$dir'; figdir='$figdir'" "experiments/$exp/plot.gp" > "$dir/plot.log" 2>&1 || { status=1; log "$exp: a figure failed ($dir/plot.log)"; }
   # The evidence's figures (error against run time, the evidence runs, the units) go to the
   # evidence report, the study's to the reproduction report.
-  for fig in "$figdir/${exp}"_*.png; do
+  for fig in "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif; do
     [ -f "$fig" ] || continue
     case "$(basename "$fig")" in *work_precision*|*_evidence*|*_units*) [ "$mode" = reproduce ] && rm -f "$fig" ;; *) [ "$mode" = evidence ] && [ "$exp" != stability_map ] && rm -f "$fig" ;; esac
   done
+  # Every experiment of the study's runs has its movie (its plot.gp, from the runs' frames.dat).
+  if [ "$mode" = reproduce ] && [[ "$movie_experiments" == *" $exp "* ]] && [ ! -s "$figdir/${exp}_movie.gif" ]; then
+    status=1; log "$exp: no movie ($figdir/${exp}_movie.gif; its runs' frames.dat and $dir/plot.log)"
+  fi
   mkdir -p "$report/data/$exp"
   [ -f "$dir/check.csv" ] && cp "$dir/check.csv" "$report/data/$exp/check.csv"
   # Each case's run time, for the next run's order and estimates.
@@ -261,6 +266,11 @@ for exp in "${run_list[@]}"; do
     for fig in "$figdir/${exp}"_*.png; do
       [ -f "$fig" ] || continue
       echo "![$(basename "$fig" .png)](figures/$(basename "$fig"))"; echo
+    done
+    for movie in "$figdir/${exp}"_*.gif; do
+      [ -f "$movie" ] || continue
+      echo "The run as a movie ($(( $(stat -c %s "$movie") / 1024 )) kB, animated GIF; the frames: the run's frames.dat, experiments/common/movie.gp):"
+      echo; echo "![$(basename "$movie" .gif)](figures/$(basename "$movie"))"; echo
     done
   } > "$sections/$exp.md"
 done

@@ -89,6 +89,7 @@ Scene two_cell_scene(const std::string& coupling, int cells = 2) {
   s.end = 60 * s.dt;
   s.output_every = 4 * s.dt;
   s.snapshots = {0.0, 30 * s.dt, 60 * s.dt};
+  s.frames = 20;  // every 3 steps: frame 7 (step 21) falls between the checkpoint and the stop
   s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
   if (coupling != "explicit" && cells == 2) s.cells.push_back({{14e-6, 6.5e-6}, 0.7, 0.3});
   return s;
@@ -128,6 +129,7 @@ void expect_interrupted_equals_straight(const std::string& coupling, int cells, 
   run_scene(scene, o);
   EXPECT_EQ(read_all(stopped / "series.csv"), read_all(straight / "series.csv"));
   EXPECT_EQ(read_all(stopped / "snapshots.dat"), read_all(straight / "snapshots.dat"));
+  EXPECT_EQ(read_all(stopped / "frames.dat"), read_all(straight / "frames.dat"));
   EXPECT_EQ(summary_without_wall_time(stopped), summary_without_wall_time(straight));
 }
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -124,6 +125,8 @@ TEST(SceneInput, ValuesOutOfRangeOrOfTheWrongTypeAreRejected) {
   expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = true\nvtk_every = 1e-7")),
                {"[output] vtk_every", "1e-07 s", "at least [output] every = 5e-07 s"});
   expect_error(scene_error(kGood + "[solver]\npressure_preconditioner = \"shur\"\n"), {"did you mean 'schur'"});
+  expect_error(scene_error(replace(kGood, "[output]", "[output]\nframes = -1")), {"[output] frames", "out of range"});
+  expect_error(scene_error(replace(kGood, "[output]", "[output]\nframes = 0.5")), {"[output] frames", "integer"});
 }
 
 TEST(SceneInput, CouplingIsNamedAndTheSemiImplicitTableIsBounded) {
@@ -216,6 +219,68 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
   int samples = 0;
   while (std::getline(csv, line)) ++samples;
   EXPECT_EQ(samples, 5);  // t = 0 and every 5e-7 s to 2e-6 s
+}
+
+// The movie's frames (frames.dat): its outlines per frame, by kind, and the cells' x1 range.
+struct Frames {
+  std::vector<double> times;                          // s
+  std::vector<std::map<int, int>> outlines;           // per frame: outlines of each kind
+  std::vector<std::pair<double, double>> cell_x;      // per frame: the cells' smallest and largest x1 (um)
+  std::string header;
+};
+
+Frames read_frames(const std::filesystem::path& path) {
+  Frames fr;
+  std::ifstream f(path);
+  std::getline(f, fr.header);
+  std::string line;
+  int rows = 0, kind = -1;
+  while (std::getline(f, line)) {
+    if (line.rfind("# t = ", 0) == 0) {
+      fr.times.push_back(std::stod(line.substr(6)));
+      fr.outlines.emplace_back();
+      fr.cell_x.emplace_back(1e9, -1e9);
+    } else if (line.empty()) {
+      if (rows > 0) ++fr.outlines.back()[kind];
+      rows = 0;
+    } else if (line[0] != '#') {
+      std::istringstream row(line);
+      double x = 0, y = 0;
+      int id = -1;
+      row >> x >> y >> kind >> id;
+      EXPECT_EQ(id, 0) << line;
+      if (kind == 0) fr.cell_x.back() = {std::min(fr.cell_x.back().first, x), std::max(fr.cell_x.back().second, x)};
+      ++rows;
+    }
+  }
+  return fr;
+}
+
+// frames + 1 frames at k end/frames, each with every cell's closed outline in um (kind 0), a
+// disk's outline and its radius (kind 1), an obstacle's rectangle (kind 2); a cell across
+// x1 = L = 20 um is drawn on both sides.
+TEST(SceneRunner, MovieFramesHoldEveryBodyAtTheirTimes) {
+  const auto dir = std::filesystem::temp_directory_path() / "rbcflow_runner_frames";
+  std::filesystem::remove_all(dir);
+  const std::string frames4 = replace(cell_channel(), "[output]", "[output]\nframes = 4");
+  const Scene cell_and_disk = parse_scene(frames4 + "[[cell]]\ncenter = [19e-6, 5e-6]\nswelling_ratio = 0.7\n"
+                                                    "[[disk]]\ncenter = [10e-6, 5e-6]\nradius = 1e-6\n", "scene.toml");
+  run_scene(cell_and_disk, {.out_dir = (dir / "cell").string(), .threads = 1, .progress = false});
+  const Frames a = read_frames(dir / "cell" / "frames.dat");
+  EXPECT_NE(a.header.find("(um): 20 10"), std::string::npos) << a.header;
+  ASSERT_EQ(a.times.size(), 5u);
+  for (int k = 0; k <= 4; ++k) {
+    EXPECT_NEAR(a.times[k], k * cell_and_disk.end / 4, 0.5 * cell_and_disk.dt);
+    EXPECT_EQ(a.outlines[k].at(0), 2) << "the cell across x1 = L, on both sides";
+    EXPECT_EQ(a.outlines[k].at(1), 2) << "the disk's outline and its radius";
+  }
+  EXPECT_LT(a.cell_x.front().first, 0.0);   // the copy one period back reaches below x1 = 0 ...
+  EXPECT_GT(a.cell_x.front().second, 20.0);  // ... and the cell itself past L
+  const Scene obstacle = parse_scene(frames4 + "[[obstacle]]\nx = [6e-6, 8e-6]\ny = [0.0, 1e-6]\nwall = \"bottom\"\n", "scene.toml");
+  run_scene(obstacle, {.out_dir = (dir / "obstacle").string(), .threads = 1, .progress = false});
+  const Frames b = read_frames(dir / "obstacle" / "frames.dat");
+  ASSERT_EQ(b.times.size(), 5u);
+  for (const auto& o : b.outlines) EXPECT_EQ(o, (std::map<int, int>{{2, 1}}));
 }
 
 // A finished run is read back (--reuse) only for the scene that made it: another time step or

@@ -111,3 +111,12 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
        for [h in "0.625 0.3125"] sel("explicit + study-form p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'explicit, the study''s form of p (the study''s scheme), h = '.h.' um', \
        sel("explicit + incremental p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 6 title 'explicit, incremental p, h = 0.3125 um'
 }
+
+# The movie: the 100 cells, the reported run (experiments/common/movie.gp).
+movie_files = sprintf('%s/%s/frames.dat', dir, run('n100'))
+if (system('test -s '.movie_files.' && echo 1') eq '1') {
+  movie_labels = '100 cells (Hct 34 %), '.run('n100')
+  movie_title = 'The cell-free layer forming (Fig. 10)'
+  movie_out = figdir.'/cell_free_layer_movie.gif'
+  load 'experiments/common/movie.gp'
+}

@@ -68,3 +68,12 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   plot for [h in "1.25 0.625 0.3125"] sel("semi-implicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
        for [h in "0.625 0.3125"] sel("explicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um'
 }
+
+# The movie: the cells through the passage (experiments/common/movie.gp).
+movie_files = dir.'/run/frames.dat'
+if (system('test -s '.movie_files.' && echo 1') eq '1') {
+  movie_labels = 'the constriction (obstacles grey)'
+  movie_title = 'Cells through a constriction (Figs. 11-12)'
+  movie_out = figdir.'/constriction_movie.gif'
+  load 'experiments/common/movie.gp'
+}

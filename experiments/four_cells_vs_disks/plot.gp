@@ -87,3 +87,12 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
        for [h in "0.625 0.3125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
        for [h in "0.625 0.3125"] sel("disks", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
 }
+
+# The movie: the four cells (s* = 1, k_b) and the four disks side by side, each its reported run.
+movie_files = sprintf('%s/%s/frames.dat %s/%s/frames.dat', dir, run('kb1'), dir, run('disks'))
+if (system(sprintf('test -s %s && test -s %s && echo 1', word(movie_files, 1), word(movie_files, 2))) eq '1') {
+  movie_labels = label('kb1').', '.run('kb1').'|'.label('disks').', '.run('disks')
+  movie_title = 'Four cells and four disks (Figs. 6-7)'
+  movie_out = figdir.'/four_cells_vs_disks_movie.gif'
+  load 'experiments/common/movie.gp'
+}

@@ -109,3 +109,12 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   plot for [h in "0.5 0.25 0.125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 7 title 'explicit, h = '.h.' um', \
        for [h in "0.5 0.25 0.125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um'
 }
+
+# The movie: the s* = 0.7 cell in the narrow channel, the whole run (experiments/common/movie.gp).
+movie_files = dir.'/narrow_si_s070/frames.dat'
+if (system('test -s '.movie_files.' && echo 1') eq '1') {
+  movie_labels = 's* = 0.7, the narrow channel (20 x 10 um, periodic in x_1)'
+  movie_title = 'One cell leaving the wall (Figs. 3-4)'
+  movie_out = figdir.'/single_cell_migration_movie.gif'
+  load 'experiments/common/movie.gp'
+}

@@ -21,6 +21,8 @@ namespace {
 
 const std::vector<double> kFigure3Times = {0.0, 0.05e-3, 0.10e-3, 0.20e-3, 0.30e-3, 0.50e-3, 0.80e-3,
                                            0.90e-3, 1.00e-3, 1.25e-3, 1.50e-3, 2.00e-3, 3.00e-3, 7.50e-3};
+// The narrow channel's movie (frames.dat over the run; experiments/common/movie.gp).
+constexpr int kMovieFrames = 100;
 
 std::string tag(double s) {
   char b[16];
@@ -328,6 +330,7 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
     sc.cells.push_back({{5e-6, 3e-6}, s, 0.0});
     sc.membrane_constants = p.membrane;
     sc.snapshots = kFigure3Times;
+    sc.frames = kMovieFrames;
     sc.source = "single_cell_migration narrow " + p.membrane.units + " s*=" + std::to_string(s);
     jobs.push_back({"narrow_" + p.membrane.units + "_" + tag(s), sc});
     if (p.quick) continue;

@@ -14,6 +14,7 @@
 #include "diagnostics/flow_diagnostics.hpp"
 #include "io/checkpoint.hpp"
 #include "io/progress.hpp"
+#include "scene/movie_frames.hpp"
 #include "scene/vtk_output.hpp"
 
 namespace rbc {
@@ -115,11 +116,11 @@ const char* signal_name(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGT
 
 // The run's own bookkeeping that a checkpoint must carry for the outputs to continue exactly.
 struct RunState {
-  std::int64_t series_bytes = 0, snapshot_bytes = 0;  // output file sizes at the checkpoint
+  std::int64_t series_bytes = 0, snapshot_bytes = 0, frame_bytes = 0;  // output file sizes at the checkpoint
   double u_sum = 0;                                   // mean-velocity average in progress
   std::int64_t u_count = 0;
   double last_mean = 0;
-  std::int64_t next_snapshot = 0, vtk_count = 0;
+  std::int64_t next_snapshot = 0, vtk_count = 0, next_frame = 0;
   double wall_seconds = 0;  // spent before this session
 
   void save(CheckpointWriter& w) const {
@@ -130,6 +131,8 @@ struct RunState {
     w.put(last_mean);
     w.put(next_snapshot);
     w.put(vtk_count);
+    w.put(frame_bytes);
+    w.put(next_frame);
     w.put(wall_seconds);
   }
   static RunState load(CheckpointReader& r) {
@@ -141,6 +144,8 @@ struct RunState {
     s.last_mean = r.get_double();
     s.next_snapshot = r.get_int();
     s.vtk_count = r.get_int();
+    s.frame_bytes = r.get_int();
+    s.next_frame = r.get_int();
     s.wall_seconds = r.get_double();
     return s;
   }
@@ -244,7 +249,8 @@ RunState resume_run(const fs::path& out, const Scene& scene, Simulation& sim, bo
   sim.load(r);
   RunState resumed = RunState::load(r);
   if (!r.at_end()) throw CheckpointError(r.path() + ": unexpected data after the run state (written by another version?)");
-  for (const auto& [name, bytes] : {std::pair{"series.csv", resumed.series_bytes}, std::pair{"snapshots.dat", resumed.snapshot_bytes}}) {
+  for (const auto& [name, bytes] : {std::pair{"series.csv", resumed.series_bytes}, std::pair{"snapshots.dat", resumed.snapshot_bytes},
+                                    std::pair{"frames.dat", resumed.frame_bytes}}) {
     if (bytes == 0) continue;
     std::error_code ec;
     const auto size = fs::file_size(out / name, ec);
@@ -272,6 +278,11 @@ class RunOutputs {
     series_.precision(10);
     if (!sim.cells().empty()) snapshots_.open(out / "snapshots.dat", fresh ? std::ios::trunc : std::ios::app);
     next_snapshot_ = std::size_t(resumed.next_snapshot);
+    if (scene.frames > 0) {
+      frames_.open(out / "frames.dat", fresh ? std::ios::trunc : std::ios::app);
+      if (fresh) write_frames_header(frames_, scene);
+    }
+    next_frame_ = int(resumed.next_frame);
     if (scene.vtk) vtk_.emplace(out / "vtk", sim, int(resumed.vtk_count));
     u_sum_ = resumed.u_sum;
     u_count_ = long(resumed.u_count);
@@ -285,10 +296,12 @@ class RunOutputs {
   }
   void sample();
   void snapshots_due();
+  void frames_due();
   double last_mean() const { return last_mean_; }
   RunState state(double wall_seconds) {
     series_.flush();
     if (snapshots_.is_open()) snapshots_.flush();
+    if (frames_.is_open()) frames_.flush();
     RunState st;
     st.series_bytes = std::int64_t(series_.tellp());
     st.snapshot_bytes = snapshots_.is_open() ? std::int64_t(snapshots_.tellp()) : 0;
@@ -297,6 +310,8 @@ class RunOutputs {
     st.last_mean = last_mean_;
     st.next_snapshot = std::int64_t(next_snapshot_);
     st.vtk_count = vtk_ ? vtk_->written() : 0;
+    st.frame_bytes = frames_.is_open() ? std::int64_t(frames_.tellp()) : 0;
+    st.next_frame = next_frame_;
     st.wall_seconds = wall_seconds;
     return st;
   }
@@ -307,8 +322,9 @@ class RunOutputs {
   const Scene& scene_;
   const Simulation& sim_;
   const double fluid_area_, l0_;  // m², the channel minus obstacles; m, the springs' rest length
-  std::ofstream series_, snapshots_;
+  std::ofstream series_, snapshots_, frames_;
   std::size_t next_snapshot_ = 0;
+  int next_frame_ = 0;  // the movie's ([output] frames)
   std::optional<VtkSeries> vtk_;  // the ParaView files ([output] vtk)
   // The mean velocity of a sample is its average over the steps since the previous sample
   // (the instantaneous value at t = 0).
@@ -381,6 +397,14 @@ void RunOutputs::snapshots_due() {
       write_field(out_ / ("field_" + std::to_string(next_snapshot_) + ".dat"), sim_.flow().mesh(), sim_.flow().velocity(), sim_.time());
     ++next_snapshot_;
   }
+}
+
+// Frame k at the first step with t ≥ k end/frames − Δt/2 (scene/movie_frames.hpp).
+void RunOutputs::frames_due() {
+  if (scene_.frames <= 0 || next_frame_ > scene_.frames || sim_.time() < next_frame_ * scene_.end / scene_.frames - 0.5 * scene_.dt) return;
+  write_frame(frames_, sim_);
+  frames_.flush();
+  ++next_frame_;
 }
 
 // The x1-averaged velocity profile at the end, for plots against the Poiseuille parabola.
@@ -499,6 +523,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (!opt.resume) {
     outputs.sample();
     outputs.snapshots_due();
+    outputs.frames_due();
   }
   // Checkpoints: after a step that passed the health checks, with the outputs flushed.
   StopSignals signals;
@@ -514,6 +539,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
       outputs.after_step();
       if (sim.steps() % every == 0 || sim.steps() == total) outputs.sample();
       outputs.snapshots_due();
+      outputs.frames_due();
       progress.update(sim.steps(), sim.time());
       if (opt.after_step) opt.after_step(sim.steps());
       if (const int sig = g_stop_signal) {

@@ -5,6 +5,7 @@
 //                 coupling_iterations, with cells plasma_flux_velocity and plasma_open_velocity (the
 //                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp), then per cell k: cellk_x, cellk_y, cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
 //   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
+//   frames.dat    the movie's frames when [output] frames > 0 (scene/movie_frames.hpp)
 //   membranes_final.dat  the membranes at the end
 //   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
 //   vtk/          ParaView files (fluid, membranes, disks, obstacles, run.pvd) when [output] vtk = true:

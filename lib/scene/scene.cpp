@@ -29,7 +29,7 @@ const std::vector<TableSpec>& schema() {
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
       {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
-      {"output", {"every", "vtk", "vtk_every", "snapshots", "fields"}},
+      {"output", {"every", "vtk", "vtk_every", "snapshots", "fields", "frames"}},
       {"contact", {"range", "strength"}},
       {"repulsion", {"range", "strength"}},
       {"membrane", {"nodes", "radius", "kl", "kb", "ks", "units", "area_penalty"}},
@@ -440,6 +440,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
                                      " (the ParaView files are written at samples)");
   s.snapshots = r.list("output", "snapshots", "s");
   s.field_snapshots = r.boolean("output", "fields", false);
+  s.frames = int(r.integer("output", "frames", 0, kMaxMovieFrames, 0));
 
   // Preparing a shape costs ≈ N³ (≈ 20 s at N = 300): larger N would look like a hang.
   s.membrane_nodes = int(r.integer("membrane", "nodes", 8, kMaxMembraneNodes, s.membrane_nodes));
@@ -648,7 +649,7 @@ std::string scene_to_toml(const Scene& s) {
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nvtk_every = " << num(s.vtk_interval())
     << "\nsnapshots = [";
   for (std::size_t k = 0; k < s.snapshots.size(); ++k) o << (k ? ", " : "") << num(s.snapshots[k]);
-  o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\n";
+  o << "]\nfields = " << (s.field_snapshots ? "true" : "false") << "\nframes = " << s.frames << "\n";
   o << "[membrane]\nnodes = " << s.membrane_nodes << "\nradius = " << num(s.membrane_radius) << "\nkl = "
     << num(s.membrane_constants.kl) << "\nkb = " << num(s.membrane_constants.kb) << "\nks = " << num(s.membrane_constants.ks)
     << "\nunits = \"" << s.membrane_constants.units << "\"\narea_penalty = " << (s.area_penalty ? "true" : "false") << "\n";

@@ -11,7 +11,8 @@
 //             (relative residual of the semi-implicit coupling's cell-to-cell system)
 //   [output]  every (s between samples), vtk (bool: ParaView files, lib/scene/vtk_output.hpp),
 //             vtk_every (s between them; at least every, default end/100), snapshots = [t, …] (s; membrane shapes),
-//             fields (bool: the velocity field at the snapshot times, field_<k>.dat)
+//             fields (bool: the velocity field at the snapshot times, field_<k>.dat), frames (movie
+//             frames over the run: frames.dat, lib/scene/movie_frames.hpp; 0 = none, the default)
 //   [membrane] nodes, radius (m), kl, kb, ks (the study's numbers), units ("si" | "cgs"),
 //              area_penalty (E_s in the flow force, bool)            — optional, the study's values
 //   [[cell]]  center = [x, y] (m), swelling_ratio (s*), angle (rad, long axis from x1),
@@ -54,6 +55,8 @@ inline constexpr double kMaxMobilityTableGiB = 8.0;
 // (nodes per cell; preparing a shape costs ≈ N³) a scene may ask for.
 inline constexpr double kMaxVelocityNodes = 4e6;
 inline constexpr int kMaxMembraneNodes = 400;
+// Most movie frames a run may write (frames.dat: about 2 kB a cell and frame).
+inline constexpr int kMaxMovieFrames = 2000;
 
 // Bad input: the message names the file, the key and what is allowed.
 struct SceneError : std::runtime_error {
@@ -98,6 +101,7 @@ struct Scene {
   double vtk_every = 0;     // s; 0 means vtk_interval()
   std::vector<double> snapshots;  // s, sorted
   bool field_snapshots = false;   // [output] fields: the velocity field at the snapshot times too
+  int frames = 0;                 // [output] frames: movie frames over the run, frame k at k end/frames (0: none)
   // Cells (empty: a cell-free channel).
   MembraneConstants membrane_constants;
   int membrane_nodes = 76;          // N
