@@ -176,6 +176,9 @@ if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
   # process group) and gives it a minute to write its checkpoint before TERM and KILL.
   parallel --will-cite -j "$JOBS" --colsep ' ' --joblog "$joblog" --termseq INT,60000,TERM,5000,KILL,25 run_one {1} {2} < "$jobs_file"
   kill "$progress_pid" 2>/dev/null; wait "$progress_pid" 2>/dev/null
+  # A signal that reached GNU parallel alone (kill -INT on its pid) stops it before every case ran:
+  # the same as an interrupted command, not a report of missing cases.
+  [ "$(( $(wc -l < "$joblog") - 1 ))" -lt "$total" ] && interrupted=1
   if [ "$interrupted" = "1" ]; then
     echo "$code $(( $(date +%s) - start_all ))" >> "$results/wall_$mode.txt"
     log "interrupted after $(( $(date +%s) - start_all )) s: run '$command' again to continue (finished cases are read back, stopped ones resume)"
