@@ -3,7 +3,8 @@
 # (paper/make_report.sh; the cases' own checkpoints: the Checkpoint.* tests). On the quick
 # cell_free_layer (two cases of some 10-20 s, side by side): a straight run; then a run stopped by
 # SIGINT to its whole process group once a case has printed progress (10 s into it), and the same
-# command again; the rows of the two reports and the cases' summaries must agree.
+# command again; the rows of the two reports and the cases' summaries must agree. A third run,
+# whose GNU parallel alone gets the SIGINT, must stop the same way.
 #   tests/reproduce_resumes.sh SOURCE_DIR BUILD_DIR
 set -euo pipefail
 src=$1; build=$2
@@ -28,6 +29,19 @@ set +m
 grep -q 'checkpoint' "$work"/stopped/cell_free_layer/n*.log || { echo "no case wrote a checkpoint on the interrupt"; exit 1; }
 run stopped > "$work/again.log" 2>&1 || { cat "$work/again.log"; exit 1; }
 grep -q 'resuming' "$work"/stopped/cell_free_layer/n*.log || { echo "no case resumed"; cat "$work"/stopped/cell_free_layer/n*.log; exit 1; }
+
+# SIGINT to GNU parallel alone (its pid, as a batch system may send it) stops the command as well:
+# exit 130 and no report of missing cases.
+run parallel_stopped > "$work/parallel_stopped.log" 2>&1 &
+pid=$!
+for _ in $(seq 1200); do
+  grep -q 'steps/s' "$work"/parallel_stopped/cell_free_layer/n*.log 2>/dev/null && break
+  sleep 0.1
+done
+pkill -INT -f "parallel .*$work/parallel_stopped/joblog_reproduce"
+rc=0; wait "$pid" || rc=$?
+[ "$rc" = 130 ] || { echo "the run whose GNU parallel was interrupted exited with $rc, not 130"; cat "$work/parallel_stopped.log"; exit 1; }
+[ ! -f "$work/parallel_stopped/report/README.md" ] || { echo "a report was written after GNU parallel was interrupted"; exit 1; }
 
 # The rows (id, ours, verdict) of both reports, and every case's summary but its wall time.
 rows() { cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
