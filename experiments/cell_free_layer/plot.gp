@@ -118,5 +118,5 @@ if (system('test -s '.movie_files.' && echo 1') eq '1') {
   movie_labels = '100 cells (Hct 34 %), '.run('n100')
   movie_title = 'The cell-free layer forming (Fig. 10)'
   movie_out = figdir.'/cell_free_layer_movie.gif'
-  load 'experiments/common/movie.gp'
+  load system('dirname '.ARG0).'/../common/movie.gp'  # beside this script, from any folder
 }

@@ -2,7 +2,7 @@
 # lib/scene/movie_frames.hpp): an animated GIF (gnuplot's gif terminal; Debian's gnuplot-nox has it,
 # no video encoder needed). Called by the experiments' plot.gp:
 #   movie_files = 'a/frames.dat b/frames.dat'; movie_labels = 'cells|disks'
-#   movie_title = '...'; movie_out = 'figures/x_movie.gif'; load 'experiments/common/movie.gp'
+#   movie_title = '...'; movie_out = 'figures/x_movie.gif'; load system('dirname '.ARG0).'/../common/movie.gp'
 # The panels share the frames of the shortest run; the membranes are red, the disks blue with a
 # radius that shows their turn, the obstacles grey (each filled in a light shade); the walls are the thick lines at x2 = 0 and H.
 reset

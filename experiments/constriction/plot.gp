@@ -75,5 +75,5 @@ if (system('test -s '.movie_files.' && echo 1') eq '1') {
   movie_labels = 'the constriction (obstacles grey)'
   movie_title = 'Cells through a constriction (Figs. 11-12)'
   movie_out = figdir.'/constriction_movie.gif'
-  load 'experiments/common/movie.gp'
+  load system('dirname '.ARG0).'/../common/movie.gp'  # beside this script, from any folder
 }

@@ -94,5 +94,5 @@ if (system(sprintf('test -s %s && test -s %s && echo 1', word(movie_files, 1), w
   movie_labels = label('kb1').', '.run('kb1').'|'.label('disks').', '.run('disks')
   movie_title = 'Four cells and four disks (Figs. 6-7)'
   movie_out = figdir.'/four_cells_vs_disks_movie.gif'
-  load 'experiments/common/movie.gp'
+  load system('dirname '.ARG0).'/../common/movie.gp'  # beside this script, from any folder
 }

@@ -116,5 +116,5 @@ if (system('test -s '.movie_files.' && echo 1') eq '1') {
   movie_labels = 's* = 0.7, the narrow channel (20 x 10 um, periodic in x_1)'
   movie_title = 'One cell leaving the wall (Figs. 3-4)'
   movie_out = figdir.'/single_cell_migration_movie.gif'
-  load 'experiments/common/movie.gp'
+  load system('dirname '.ARG0).'/../common/movie.gp'  # beside this script, from any folder
 }
