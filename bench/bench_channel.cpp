@@ -262,6 +262,44 @@ static void bench_disks() {
   }
 }
 
+// P u at a few nodes against the sweep (SemiImplicitMembraneStep's footprint, kFootprintNodeCost):
+// on the wide grid, the velocity update u + (Δt/ρ) M⁻¹ Bᵀ p of project_exact (its time less that
+// of its pressure alone) per mesh node, against projected_at per node over a footprint of
+// the size four cells have (about 1,200 nodes: rows 20-30 of every second column, and more).
+static void bench_footprint() {
+  rbc::ChannelFlowParams p;
+  p.length = 100e-6;
+  p.height = 50e-6;
+  p.mesh_size = 0.3125e-6;
+  p.dt = 1.5e-6;
+  rbc::ChannelFlow flow(p);
+  const rbc::ChannelMesh& m = flow.mesh();
+  for (int j = 1; j < m.ny; ++j)
+    for (int i = 0; i < m.nx; ++i) {
+      flow.velocity().u1[m.v(i, j)] = 0.01 * std::cos(6.283 * i / m.nx) * std::sin(3.1416 * j / m.ny);
+      flow.velocity().u2[m.v(i, j)] = 0.01 * std::sin(6.283 * i / m.nx) * std::sin(3.1416 * j / m.ny);
+    }
+  rbc::QuasiStokesProjection& P = flow.projection();
+  const double rho = p.fluid.density;
+  rbc::VelocityField out(m);
+  const double whole = seconds_per_call([&] { P.project_exact(flow.velocity(), out, rho, p.dt); });
+  const double pressure_only = seconds_per_call([&] { P.exact_pressure(flow.velocity(), rho, p.dt); });
+  const std::vector<double> pressure = P.exact_pressure(flow.velocity(), rho, p.dt);
+  std::vector<std::pair<int, int>> nodes;
+  for (int j = 20; j <= 30; ++j)
+    for (int i = 0; i < m.nx; i += 3) nodes.push_back({i, j});
+  std::vector<double> v1(nodes.size()), v2(nodes.size());
+  const double local = seconds_per_call([&] {
+    for (std::size_t s = 0; s < nodes.size(); ++s) P.projected_at(flow.velocity(), pressure, rho, p.dt, nodes[s].first, nodes[s].second, v1[s], v2[s]);
+  });
+  const double sweep = whole - pressure_only;
+  const double per_mesh_node = sweep / double(m.velocity_nodes()), per_node = local / double(nodes.size());
+  std::printf("\nP u at a few nodes, wide grid %dx%d: the sweep of project_exact %.1f us (%.2f ns a mesh node; its pressure %.1f us), "
+              "projected_at %.1f us for %zu nodes (%.2f ns a node): a node costs %.1f mesh nodes of the sweep\n",
+              m.nx, m.ny, sweep * 1e6, per_mesh_node * 1e9, pressure_only * 1e6, local * 1e6, nodes.size(), per_node * 1e9,
+              per_node / per_mesh_node);
+}
+
 // The crowd of the cell_free_layer experiment (issue 17): its 100 s* = 0.7 cells (Hct 34 %,
 // arrangement seed 1, membrane repulsion on) at its own step, semi-implicit 3e-6 s, started from
 // the developed cell-free profile (the cells meet the full flow at once), 'steps' steps after 10
@@ -420,6 +458,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (disks_only) {
+    bench_footprint();
     bench_disks();
     return 0;
   }
@@ -467,6 +506,7 @@ int main(int argc, char** argv) {
   bench_cells();
   bench_target(10);
   bench_constriction();
+  bench_footprint();
   bench_disks();
   bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list, solves_list);
   return 0;

@@ -480,6 +480,14 @@ TEST(SemiImplicit, DoubleProductSolvesTakeTheSameStepsToTheSolversTolerance) {
       [](CouplingOptions& o) { o.product_precision = CouplingProducts::Precision::kDouble; }, "double against single solves");
 }
 
+TEST(SemiImplicit, PAtTheStencilsTakesTheSameStepsToTheSolversTolerance) {
+  // J P made from P at the stencils' nodes only (QuasiStokesProjection::projected_at) instead of
+  // over the mesh (the default's choice for three cells in the narrow channel): the same values
+  // to round-off (QuasiStokes.TheProjectionAtOneNodeIsTheSweepsValue), so the same steps.
+  expect_the_same_steps_to_the_solvers_tolerance([](CouplingOptions& o) { o.projection = CouplingOptions::Projection::kFootprint; },
+                                                 "P at the stencils against over the mesh");
+}
+
 TEST(SemiImplicit, ProductSolvesStayDoubleWhereStep4HasNoSinglePrecisionForm) {
   // An obstacle makes step 4 a constrained solve, the Laplacian preconditioner makes the
   // projection iterate: there the products use the fluid's own double solves, whatever is asked.

@@ -232,4 +232,28 @@ void DivergenceStencil::add_transpose(const std::vector<double>& p, double c, co
   });
 }
 
+void DivergenceStencil::transpose_at(const std::vector<double>& p, int i, int j, double& g1, double& g2) const {
+  // transpose_rows' three stages at the one node: the prolongated pressure q of the fine nodes
+  // around it (columns i − 1, i, i + 1 of rows j − 1, j, j + 1), the sums of the six triangles
+  // that meet there, their weighted gradients.
+  const int nx = m_.nx, pnx = m_.pnx();
+  const double c = m_.h / 6.0;
+  auto q = [&](int k, int r) {  // prolongate(r) at column k
+    const int J = r / 2, I = k / 2, In = I + 1 < pnx ? I + 1 : 0;
+    const double* P = &p[std::size_t(J) * pnx];
+    if (r % 2 == 0) return k % 2 == 0 ? P[I] : 0.5 * (P[I] + P[In]);
+    const double* Pa = &p[std::size_t(J + 1) * pnx];  // coarse row J + 1
+    return k % 2 == 0 ? 0.5 * (P[I] + Pa[I]) : 0.5 * (P[In] + Pa[I]);
+  };
+  const int im = i > 0 ? i - 1 : nx - 1, ip = i + 1 < nx ? i + 1 : 0;
+  const double d_i = q(i, j - 1), d_ip = q(ip, j - 1);               // row j − 1
+  const double a_im = q(im, j), a_i = q(i, j), a_ip = q(ip, j);     // row j
+  const double b_im = q(im, j + 1), b_i = q(i, j + 1);              // row j + 1
+  // triangles(r): L(k) = c (a[k] + a[k+1] + b[k]), U(k) = c (a[k+1] + b[k+1] + b[k]) of rows r, r + 1.
+  const double Lj = c * (a_i + a_ip + b_i), Ljm = c * (a_im + a_i + b_im), Ujm = c * (a_i + b_i + b_im);
+  const double Ld = c * (d_i + d_ip + a_i), Udm = c * (d_i + a_i + a_im), Ud = c * (d_ip + a_ip + a_i);
+  g1 = -Lj + Ljm + Udm - Ud;  // gradient_row
+  g2 = -Lj + Ld - Ujm + Udm;
+}
+
 }  // namespace rbc

@@ -25,6 +25,10 @@ class DivergenceStencil {
   // value is u + c g with g as apply_transpose gives it. out may be u.
   void add_transpose(const std::vector<double>& p, double c, const std::vector<double>& u1, const std::vector<double>& u2,
                      std::vector<double>& out1, std::vector<double>& out2) const;
+  // (g1, g2) = (Bᵀ p) at the one interior node (i, j), 0 ≤ i < nx, 1 ≤ j ≤ ny − 1, by the
+  // sweep's expressions (its values to round-off: the sweep rounds each triangle's sum as it
+  // stores it), for callers that need Bᵀ p at a few nodes only.
+  void transpose_at(const std::vector<double>& p, int i, int j, double& g1, double& g2) const;
 
  private:
   ChannelMesh m_;

@@ -173,6 +173,12 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
     project(out, p, rho, dt);
     return;
   }
+  add_pressure_gradient(u, exact_pressure(u, rho, dt, schur_solve), rho, dt, out);
+}
+
+const std::vector<double>& QuasiStokesProjection::exact_pressure(const VelocityField& u, double rho, double dt,
+                                                                 const SchurSolve& schur_solve) {
+  if (!exact_pc_) throw std::logic_error("QuasiStokesProjection: the exact pressure needs the Schur preconditioner");
   divergence(u, b_);
   scale(b_, -rho / dt);
   if (schur_solve) {  // p = S⁻¹ b, mean-zero
@@ -181,7 +187,23 @@ void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField&
   } else {
     precondition(b_, z_);
   }
-  add_pressure_gradient(u, z_, rho, dt, out);
+  return z_;
+}
+
+void QuasiStokesProjection::projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j,
+                                         double& v1, double& v2) const {
+  // add_pressure_gradient's value at the one node (the walls: u).
+  const std::size_t n = std::size_t(j) * mesh_.nx + i;
+  if (j <= 0 || j >= mesh_.ny) {
+    v1 = u.u1[n];
+    v2 = u.u2[n];
+    return;
+  }
+  const double c = dt / rho * inv_mass_;
+  double g1, g2;
+  B_.transpose_at(p, i, j, g1, g2);
+  v1 = u.u1[n] + c * g1;
+  v2 = u.u2[n] + c * g2;
 }
 
 }  // namespace rbc

@@ -49,6 +49,13 @@ class QuasiStokesProjection {
   // exact Schur preconditioner. The mean is removed from z either way.
   using SchurSolve = std::function<void(const double* r, double* z)>;
   void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, const SchurSolve& schur_solve = nullptr);
+  // project_exact in two parts, for callers that need P u at a few nodes only (the coupling's
+  // J P u at the membrane nodes): its pressure p = S⁻¹(−(ρ/Δt) B u), mean-zero (only with the
+  // exact Schur preconditioner; the reference is valid until the next call), and (P u)(x_ij) =
+  // u + (Δt/ρ) M⁻¹ Bᵀ p on the interior, u on the walls: project_exact's value there to round-off.
+  const std::vector<double>& exact_pressure(const VelocityField& u, double rho, double dt, const SchurSolve& schur_solve = nullptr);
+  void projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j, double& v1,
+                    double& v2) const;
   // Whether S⁻¹ is the exact fast solve, and S itself as an operator (to build another solver of it).
   bool exact_schur_solve() const { return exact_pc_; }
   PeriodicBandedSolver::Operator schur_operator() const;

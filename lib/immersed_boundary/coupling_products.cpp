@@ -48,4 +48,9 @@ void CouplingProducts::project(const VelocityField& u, VelocityField& out) {
     projection_.project_exact(u, out, rho_, dt_);
 }
 
+const std::vector<double>& CouplingProducts::pressure(const VelocityField& u) {
+  if (single_schur_) return projection_.exact_pressure(u, rho_, dt_, [this](const double* r, double* z) { single_schur_->solve(r, z); });
+  return projection_.exact_pressure(u, rho_, dt_);
+}
+
 }  // namespace rbc

@@ -39,6 +39,10 @@ class CouplingProducts {
   void response(VelocityField& out);
   // out = P u (the projection with S⁻¹ exact; out may not be u).
   void project(const VelocityField& u, VelocityField& out);
+  // project's pressure alone, for P u at a few nodes (QuasiStokesProjection::projected_at; only
+  // where exact_projection()).
+  const std::vector<double>& pressure(const VelocityField& u);
+  bool exact_projection() const { return projection_.exact_schur_solve(); }
   // Whether the solves run in single precision (see the top of this file).
   bool single_precision() const { return single_helmholtz_ != nullptr; }
 

@@ -91,4 +91,48 @@ void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const Po
   interpolate_velocity(m, u, st, U);
 }
 
+void StencilFootprint::build(const ChannelMesh& m, const std::vector<std::vector<NodeStencil>>& stencils) {
+  const std::size_t mesh_nodes = std::size_t(m.nx) * (m.ny + 1);
+  if (slot_of_.size() != mesh_nodes) slot_of_.assign(mesh_nodes, -1);
+  for (const auto& [i, j] : nodes_) slot_of_[std::size_t(j) * m.nx + i] = -1;  // the last build's
+  nodes_.clear();
+  slots_.resize(stencils.size());
+  for (std::size_t c = 0; c < stencils.size(); ++c) {
+    slots_[c].assign(16 * stencils[c].size(), -1);
+    for (std::size_t k = 0; k < stencils[c].size(); ++k) {
+      const NodeStencil& s = stencils[c][k];
+      for (int b = 0; b < 4; ++b) {
+        const int j = s.j0 + b;
+        if (j < 0 || j > m.ny) continue;
+        for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {
+          int& slot = slot_of_[std::size_t(j) * m.nx + i];
+          if (slot < 0) {
+            slot = int(nodes_.size());
+            nodes_.push_back({i, j});
+          }
+          slots_[c][16 * k + 4 * b + a] = slot;
+        }
+      }
+    }
+  }
+}
+
+void StencilFootprint::interpolate(int c, const std::vector<NodeStencil>& st, const double* v1, const double* v2, Points& U) const {
+  U.assign(st.size(), Eigen::Vector2d::Zero());
+  for (std::size_t k = 0; k < st.size(); ++k) {
+    const NodeStencil& s = st[k];
+    const int* slot = &slots_[c][16 * k];
+    Eigen::Vector2d v = Eigen::Vector2d::Zero();
+    for (int b = 0; b < 4; ++b) {
+      if (slot[4 * b] < 0) continue;  // beyond the walls
+      for (int a = 0; a < 4; ++a) {
+        const double w = s.wx[a] * s.wy[b];
+        const int n = slot[4 * b + a];
+        v += w * Eigen::Vector2d(v1[n], v2[n]);
+      }
+    }
+    U[k] = v;
+  }
+}
+
 }  // namespace rbc

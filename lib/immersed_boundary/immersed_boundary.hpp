@@ -11,6 +11,7 @@
 // prescribed, so no force can act there). Spreading and interpolation use the same weights at the
 // same positions, so with zero wall velocity they are adjoint in the lumped inner product:
 // Σ_n h² (S F)_n · u_n = Σ_i F_i · (J u)_i.
+#include <utility>
 #include <vector>
 
 #include "mesh/channel_mesh.hpp"
@@ -37,5 +38,23 @@ void spread_forces_interior(const ChannelMesh& mesh, const std::vector<NodeStenc
 // U(r_i) for every node.
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const Points& r, Points& U);
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const std::vector<NodeStencil>& r, Points& U);
+
+// The mesh nodes under a set of cells' stencils, each once: J u needs u there only, so a field
+// that costs a sweep over the mesh (the projected velocity P w of the semi-implicit coupling) can
+// be made at these nodes instead when they are few. Rows beyond the walls are left out, as
+// interpolate_velocity leaves them out.
+class StencilFootprint {
+ public:
+  void build(const ChannelMesh& mesh, const std::vector<std::vector<NodeStencil>>& stencils);
+  const std::vector<std::pair<int, int>>& nodes() const { return nodes_; }  // (i, j)
+  // J u at cell c's nodes from u's values at nodes() (v1[s], v2[s] at nodes()[s]): the sums of
+  // interpolate_velocity, in its order (same bits as J of a field holding those values).
+  void interpolate(int c, const std::vector<NodeStencil>& stencils, const double* v1, const double* v2, Points& U) const;
+
+ private:
+  std::vector<int> slot_of_;                 // mesh node → its place in nodes_ (−1 elsewhere)
+  std::vector<std::pair<int, int>> nodes_;
+  std::vector<std::vector<int>> slots_;      // per cell: 16 per node, row by row (−1 beyond the walls)
+};
 
 }  // namespace rbc

@@ -30,7 +30,10 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
 std::string describe(const CouplingOptions& o) {
   return std::string("start ") + (o.start == CouplingOptions::Start::kConstant ? "constant" : "linear") + ", blocks " +
          (o.turn_blocks ? "turned" : "fixed") + ", products " +
-         (o.product_precision == CouplingProducts::Precision::kDouble ? "double" : "single where possible");
+         (o.product_precision == CouplingProducts::Precision::kDouble ? "double" : "single where possible") + ", P at " +
+         (o.projection == CouplingOptions::Projection::kSweep       ? "the mesh"
+          : o.projection == CouplingOptions::Projection::kFootprint ? "the stencils"
+                                                                    : "the stencils where cheaper");
 }
 
 void SemiImplicitMembraneStep::set_fluid_not_x1_invariant() {
@@ -103,20 +106,24 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
       }
   }
   cost_.product_spread += seconds_since(t0);
-  // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P.
+  // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P: over
+  // the mesh, or at the footprint only (footprint_, see predict).
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
   const auto t1 = std::chrono::steady_clock::now();
   products_->response(response);
   cost_.product_solve += seconds_since(t1);
   const auto t2 = std::chrono::steady_clock::now();
-  products_->project(response, work_);
+  if (project_at_footprint_)
+    project_at_footprint(response, products_->pressure(response));
+  else
+    products_->project(response, work_);
   cost_.product_project += seconds_since(t2);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v
     thread_local Points U;
-    interpolate_velocity(mesh_, work_, move_.stencils()[c], U);
+    interpolate_projected(c, work_, U);
     for (std::size_t k = 0; k < U.size(); ++k) {
       out[offset_[c] + 2 * k] += dt_ * U[k].x();
       out[offset_[c] + 2 * k + 1] += dt_ * U[k].y();
@@ -269,28 +276,58 @@ Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells
   offset_.assign(ncells + 1, 0);
   for (int c = 0; c < ncells; ++c) offset_[c + 1] = offset_[c] + 2 * Eigen::Index(cells[c].nodes.size());
   // P u⁰: the velocity step 1 would hand to step 2 without the correction; U⁰ = J P u⁰ at the
-  // nodes, unknowns (x_1, y_1, x_2, …).
-  // (Several cells: the projection as the products make it, without CG's residual checks; with
-  // the exact Schur preconditioner project() takes that one iteration too, and one-cell runs keep
-  // project().)
-  if (ncells > 1) {
+  // nodes, unknowns (x_1, y_1, x_2, …). The nodes' stencils at r^{n+1}: step 2 made them to
+  // spread F^{n+1}.
+  const auto& stencils = move_.stencils();
+  if (stencils.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
+  // With the exact Schur preconditioner P is the products' projection, without CG's residual
+  // checks (CG takes that one iteration too). J P needs P only under the stencils: where those
+  // nodes are few against the mesh (a few cells) P is made there alone
+  // (QuasiStokesProjection::projected_at: project_exact's values to round-off), its pressure
+  // still a solve over the mesh; a sweep over the mesh fewer per product.
+  const bool exact = flow_.projection().exact_schur_solve();
+  project_at_footprint_ = false;
+  if (exact && options_.projection != CouplingOptions::Projection::kSweep) {
+    footprint_.build(mesh_, stencils);
+    project_at_footprint_ = options_.projection == CouplingOptions::Projection::kFootprint ||
+                            kFootprintNodeCost * footprint_.nodes().size() < mesh_.velocity_nodes();
+  }
+  if (project_at_footprint_) {
+    project_at_footprint(u, flow_.projection().exact_pressure(u, flow_.params().fluid.density, dt_));
+  } else if (exact || ncells > 1) {  // (ncells > 1 without the exact solve: CG from p = 0)
     flow_.projection().project_exact(u, projected_, flow_.params().fluid.density, dt_);
-  } else {
+  } else {  // one cell, the Laplacian preconditioner: CG from the last step's pressure
     projected_ = u;
     flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
   }
-  // The nodes' stencils at r^{n+1}: step 2 made them to spread F^{n+1}.
-  const auto& stencils = move_.stencils();
-  if (stencils.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
   Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
   for (int c = 0; c < ncells; ++c) {
     Points U0;
-    interpolate_velocity(mesh_, projected_, stencils[c], U0);
+    interpolate_projected(c, projected_, U0);
     rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
   }
   assign_spreading_slabs(cells);
   return rhs;
+}
+
+void SemiImplicitMembraneStep::project_at_footprint(const VelocityField& u, const std::vector<double>& p) {
+  // P u at the footprint's nodes (footprint1_, footprint2_).
+  const auto& nodes = footprint_.nodes();
+  footprint1_.resize(nodes.size());
+  footprint2_.resize(nodes.size());
+  const double rho = flow_.params().fluid.density;
+#pragma omp parallel for schedule(static)
+  for (std::size_t s = 0; s < nodes.size(); ++s)
+    flow_.projection().projected_at(u, p, rho, dt_, nodes[s].first, nodes[s].second, footprint1_[s], footprint2_[s]);
+}
+
+void SemiImplicitMembraneStep::interpolate_projected(int c, const VelocityField& projected, Points& U) const {
+  // J P at cell c's nodes: from the footprint's values, or from the projected field.
+  if (project_at_footprint_)
+    footprint_.interpolate(c, move_.stencils()[c], footprint1_.data(), footprint2_.data(), U);
+  else
+    interpolate_velocity(mesh_, projected, move_.stencils()[c], U);
 }
 
 void SemiImplicitMembraneStep::assign_spreading_slabs(const std::vector<Cell>& cells) {
@@ -348,9 +385,9 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_system(const std::vector<Cell>& 
 
 void SemiImplicitMembraneStep::correct(const Eigen::VectorXd& U) {
   // Step 4's response to ΔF = −Δt K U, the change of the spring force over the coming step.
-  std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
-  std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
   if (!several_) {  // spread ΔF and solve
+    std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
+    std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
     VelocityField& force = work_;
     std::fill(force.u1.begin(), force.u1.end(), 0.0);
     std::fill(force.u2.begin(), force.u2.end(), 0.0);

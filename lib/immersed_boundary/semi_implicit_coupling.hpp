@@ -79,6 +79,11 @@ struct CouplingOptions {
   bool turn_blocks = true;
   // The products' fluid solves in single precision where step 4 allows it (coupling_products.hpp).
   CouplingProducts::Precision product_precision = CouplingProducts::Precision::kSingleWherePossible;
+  // Where J P of the predictor and the products makes P: over the mesh (kSweep), at the stencils'
+  // nodes only (kFootprint, with the exact Schur preconditioner), or at the nodes where they are
+  // few against the mesh (kCheaper: a few cells in a wide channel). Same values to round-off.
+  enum class Projection { kCheaper, kSweep, kFootprint };
+  Projection projection = Projection::kCheaper;
 };
 
 // The options in words, e.g. "start constant, blocks turned, products single where possible"
@@ -142,7 +147,7 @@ class SemiImplicitMembraneStep {
   MembraneModel model_;
   double dt_;
   VelocityField projected_;             // P u⁰
-  std::vector<double> pressure_;        // its pressure, the warm start of the next predictor
+  std::vector<double> pressure_;        // its pressure, the warm start of the next predictor (one cell, Laplacian preconditioner)
   ExplicitMembraneStep move_;
   StepMobility mobility_;
   VelocityField correction_;
@@ -156,6 +161,15 @@ class SemiImplicitMembraneStep {
   Eigen::VectorXd kv_;                        // and K v, the nodes' forces it spreads
   std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
   int products_in_step_ = 0;
+  // P at the stencils' nodes only (predict): the footprint, P's values there, and whether this
+  // step uses them. A node of it costs about as much as kFootprintNodeCost nodes of the sweep
+  // over the mesh (7 measured by bench_channel --disks-only; the footprint's build besides).
+  static constexpr std::size_t kFootprintNodeCost = 8;
+  StencilFootprint footprint_;
+  std::vector<double> footprint1_, footprint2_;
+  bool project_at_footprint_ = false;
+  void project_at_footprint(const VelocityField& u, const std::vector<double>& p);
+  void interpolate_projected(int c, const VelocityField& projected, Points& U) const;
   Eigen::VectorXd combination_;               // U = Σ combination_p z_p over those products
   static constexpr int kSpreadSlabs = 4;       // x1 slabs of the products' spreading (even: two phases)
   std::vector<std::vector<int>> slab_cells_;  // the cells of each slab (empty: per-thread arrays)
