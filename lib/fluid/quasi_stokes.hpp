@@ -26,7 +26,7 @@ PressurePreconditioner parse_pressure_preconditioner(const std::string& name);  
 
 struct ProjectionReport {
   int iterations = 0;
-  double residual = 0;  // ‖r‖ / ‖b‖ at exit
+  double residual = 0;  // ‖r‖ / ‖b‖ at exit (NaN with the exact Schur solve: not measured)
 };
 
 class QuasiStokesProjection {
