@@ -1,5 +1,6 @@
 #pragma once
-// The fluid solves inside one product of the semi-implicit coupling's GMRES (semi_implicit_coupling.hpp):
+// The fluid solves inside one product of the semi-implicit coupling's GMRES (semi_implicit_coupling.hpp),
+// and of one cell's correction A⁻¹ S (−Δt K U):
 //
 //   w = A⁻¹ (h² S K v)   (step 4's response to the spread force; A: step 4's operator, with the
 //                          fictitious domain's constraint when the scene has one)
@@ -15,7 +16,10 @@
 // spreading and interpolation stay double). The product is then M K v to a relative error of a few
 // 1e-7 (tests: FastSolvers.TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff and
 // CouplingProducts.*), far inside GMRES's tolerance of 1e-4, so GMRES takes the steps of the double
-// products to its tolerance. Elsewhere the fluid's own double solves are used. Precision::kDouble
+// products to its tolerance. One cell's correction (no GMRES) takes the same solve: a few 1e-7 of
+// a velocity change that is itself a part of the step's (test: SemiImplicit.
+// OneCellsCorrectionInSinglePrecisionTakesTheDoubleSteps). Elsewhere the fluid's own double
+// solves are used. Precision::kDouble
 // asks for those everywhere (tests, and the benchmark's comparison of the two).
 #include <memory>
 #include <utility>

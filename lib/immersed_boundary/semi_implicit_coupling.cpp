@@ -45,13 +45,15 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-
-Points as_points(const Eigen::VectorXd& v, Eigen::Index offset, int n) {
-  Points p(n);
-  for (int i = 0; i < n; ++i) p[i] = Eigen::Vector2d(v[offset + 2 * i], v[offset + 2 * i + 1]);
-  return p;
-}
 }  // namespace
+
+CouplingProducts& SemiImplicitMembraneStep::products() {
+  // Made at first use: the fluid's step 4 (with or without a constraint) is then installed.
+  if (!products_)
+    products_ = std::make_unique<CouplingProducts>(mesh_, flow_.diffusion(), flow_.projection(), flow_.params().fluid.density, dt_,
+                                                   options_.product_precision);
+  return *products_;
+}
 
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
@@ -71,10 +73,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   auto spread = [&](int c, double* f1, double* f2) {
     spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
   };
-  if (!products_)
-    products_ = std::make_unique<CouplingProducts>(mesh_, flow_.diffusion(), flow_.projection(), flow_.params().fluid.density, dt_,
-                                                   options_.product_precision);
-  auto [f1, f2] = products_->force_rhs();
+  auto [f1, f2] = products().force_rhs();
   if (!slab_cells_.empty()) {
     // Cells in x1 slabs (see implicit_correction): the even slabs' cells touch disjoint mesh
     // nodes, so their threads add into the same arrays; then the odd slabs'. Every node sums its
@@ -385,15 +384,13 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_system(const std::vector<Cell>& 
 
 void SemiImplicitMembraneStep::correct(const Eigen::VectorXd& U) {
   // Step 4's response to ΔF = −Δt K U, the change of the spring force over the coming step.
-  if (!several_) {  // spread ΔF and solve
-    std::fill(correction_.u1.begin(), correction_.u1.end(), 0.0);
-    std::fill(correction_.u2.begin(), correction_.u2.end(), 0.0);
-    VelocityField& force = work_;
-    std::fill(force.u1.begin(), force.u1.end(), 0.0);
-    std::fill(force.u2.begin(), force.u2.end(), 0.0);
+  if (!several_) {  // spread ΔF and solve, as a product does (single precision where it may:
+    // the products' few 1e-7 of the correction, against the correction of several cells, which
+    // is a combination of such responses)
     const Eigen::VectorXd f = -dt_ * stiffness_[0].apply(U);
-    spread_forces(mesh_, move_.stencils()[0], as_points(f, 0, int(U.size() / 2)), force);
-    flow_.diffusion().add_force_response(correction_, force);
+    auto [f1, f2] = products().force_rhs();
+    spread_forces_interior(mesh_, move_.stencils()[0], f.data(), f1, f2);
+    products().response(correction_);
   } else {  // −Δt Σ_p combination_p A⁻¹ S K z_p: the products' responses, added in order
     const std::size_t size = correction_.u1.size();
 #pragma omp parallel for schedule(static)

@@ -16,8 +16,9 @@
 //
 //   (I + Δt M K) U = J P u⁰                                 (2N unknowns per cell)
 //
-// and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve per step (with several cells not even
-// that: U is a combination of GMRES's product arguments, whose responses A⁻¹ S K z it keeps).
+// and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve per step, a product's (with several
+// cells not even that: U is a combination of GMRES's product arguments, whose responses A⁻¹ S K z
+// it keeps).
 // With M and K positive semi-definite
 // every membrane mode is damped like backward Euler, whatever Δt: the stable Δt is set by the
 // flow (the advective bound), not by k_l and k_b. With several cells the system couples them
@@ -156,7 +157,8 @@ class SemiImplicitMembraneStep {
   CouplingPreconditioner preconditioner_;
   std::vector<Eigen::Index> offset_;  // first unknown of each cell
   CouplingOptions options_;
-  std::unique_ptr<CouplingProducts> products_;  // the products' fluid solves (several cells or obstacles)
+  std::unique_ptr<CouplingProducts> products_;  // the products' fluid solves (and one cell's correction)
+  CouplingProducts& products();
   VelocityField work_;                        // GMRES matrix-vector product: the velocity
   Eigen::VectorXd kv_;                        // and K v, the nodes' forces it spreads
   std::vector<VelocityField> responses_;      // A⁻¹ S K z of this step's products, in order
