@@ -104,6 +104,8 @@ class SemiImplicitMembraneStep {
   // (m/s, zero on the walls) that turns u⁰ into u^{n+1}: step 4's response to the implicit force.
   const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
   int last_iterations() const { return last_iterations_; }
+  // Whether the last step made P at the stencils' nodes only (CouplingOptions::projection).
+  bool last_projection_at_footprint() const { return project_at_footprint_; }
   // The fluid is no longer invariant under shifts in x1 (an obstacle's multiplier in step 4): the
   // tabulated mobility is then only a preconditioner, and even one cell goes through GMRES, whose
   // products (spread, step 4, project, interpolate) are exact. Call it after the constraint is
