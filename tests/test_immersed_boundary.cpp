@@ -109,6 +109,37 @@ TEST(ImmersedBoundary, InterpolationReproducesLinearFieldsAndSpreadingConservesF
   EXPECT_NEAR(fy, 1.5, 1e-12);
 }
 
+TEST(ImmersedBoundary, AFootprintStoppedAtItsLimitLeavesTheNextBuildExact) {
+  // StencilFootprint: each node under the stencils once; a build that would exceed max_nodes says
+  // so (false) and leaves nothing behind, so the next full build's J u equals interpolate_velocity.
+  const ChannelMesh m = ChannelMesh::make(10e-6, 5e-6, 0.25e-6);
+  const std::vector<Points> cells = {{{0.1e-6, 2.5e-6}, {9.95e-6, 0.3e-6}, {0.2e-6, 2.5e-6}}, {{5.03e-6, 4.9e-6}, {-0.7e-6, 1.0e-6}}};
+  std::vector<std::vector<NodeStencil>> st(cells.size());
+  for (std::size_t c = 0; c < cells.size(); ++c) node_stencils(m, cells[c], st[c]);
+  StencilFootprint fp;
+  ASSERT_TRUE(fp.build(m, st));
+  const std::size_t full = fp.nodes().size();
+  // 5 stencils of 4 x 4 nodes; the first and third share 12, the second and fifth lose rows beyond the walls.
+  EXPECT_LT(full, 5u * 16u);
+  EXPECT_GT(full, 2u * 16u);
+  EXPECT_TRUE(fp.build(m, st, full));
+  EXPECT_FALSE(fp.build(m, st, full - 1));
+  ASSERT_TRUE(fp.build(m, st));
+  EXPECT_EQ(fp.nodes().size(), full);
+  VelocityField u(m);
+  std::mt19937 gen(3);
+  std::uniform_real_distribution<double> d(-1, 1);
+  for (std::size_t n = 0; n < m.velocity_nodes(); ++n) { u.u1[n] = d(gen); u.u2[n] = d(gen); }
+  std::vector<double> v1, v2;
+  for (const auto& [i, j] : fp.nodes()) { v1.push_back(u.u1[m.v(i, j)]); v2.push_back(u.u2[m.v(i, j)]); }
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    Points U, V;
+    interpolate_velocity(m, u, st[c], U);
+    fp.interpolate(int(c), st[c], v1.data(), v2.data(), V);
+    for (std::size_t k = 0; k < U.size(); ++k) EXPECT_EQ(U[k], V[k]) << "cell " << c << " node " << k;  // the same sums in the same order
+  }
+}
+
 TEST(ExplicitCoupling, EllipticalMembraneRelaxesTowardACircleOfTheSameArea) {
   // An ellipse with the area of the rest circle (πR0²) in fluid at rest: the springs pull it to
   // the circle. The study's constants (SI reading); the area drift is the immersed boundary's

@@ -91,7 +91,7 @@ void interpolate_velocity(const ChannelMesh& m, const VelocityField& u, const Po
   interpolate_velocity(m, u, st, U);
 }
 
-void StencilFootprint::build(const ChannelMesh& m, const std::vector<std::vector<NodeStencil>>& stencils) {
+bool StencilFootprint::build(const ChannelMesh& m, const std::vector<std::vector<NodeStencil>>& stencils, std::size_t max_nodes) {
   const std::size_t mesh_nodes = std::size_t(m.nx) * (m.ny + 1);
   if (slot_of_.size() != mesh_nodes) slot_of_.assign(mesh_nodes, -1);
   for (const auto& [i, j] : nodes_) slot_of_[std::size_t(j) * m.nx + i] = -1;  // the last build's
@@ -107,6 +107,7 @@ void StencilFootprint::build(const ChannelMesh& m, const std::vector<std::vector
         for (int a = 0, i = s.i0; a < 4; ++a, i = i + 1 == m.nx ? 0 : i + 1) {
           int& slot = slot_of_[std::size_t(j) * m.nx + i];
           if (slot < 0) {
+            if (nodes_.size() == max_nodes) return false;
             slot = int(nodes_.size());
             nodes_.push_back({i, j});
           }
@@ -115,6 +116,7 @@ void StencilFootprint::build(const ChannelMesh& m, const std::vector<std::vector
       }
     }
   }
+  return true;
 }
 
 void StencilFootprint::interpolate(int c, const std::vector<NodeStencil>& st, const double* v1, const double* v2, Points& U) const {

@@ -11,6 +11,7 @@
 // prescribed, so no force can act there). Spreading and interpolation use the same weights at the
 // same positions, so with zero wall velocity they are adjoint in the lumped inner product:
 // Σ_n h² (S F)_n · u_n = Σ_i F_i · (J u)_i.
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -45,7 +46,10 @@ void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const
 // interpolate_velocity leaves them out.
 class StencilFootprint {
  public:
-  void build(const ChannelMesh& mesh, const std::vector<std::vector<NodeStencil>>& stencils);
+  // false (and the footprint unusable) as soon as it would hold more than max_nodes nodes: a
+  // caller that takes it only when small stops there rather than walk every cell's stencils.
+  bool build(const ChannelMesh& mesh, const std::vector<std::vector<NodeStencil>>& stencils,
+             std::size_t max_nodes = std::numeric_limits<std::size_t>::max());
   const std::vector<std::pair<int, int>>& nodes() const { return nodes_; }  // (i, j)
   // J u at cell c's nodes from u's values at nodes() (v1[s], v2[s] at nodes()[s]): the sums of
   // interpolate_velocity, in its order (same bits as J of a field holding those values).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <omp.h>
@@ -287,9 +288,11 @@ Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells
   const bool exact = flow_.projection().exact_schur_solve();
   project_at_footprint_ = false;
   if (exact && options_.projection != CouplingOptions::Projection::kSweep) {
-    footprint_.build(mesh_, stencils);
-    project_at_footprint_ = options_.projection == CouplingOptions::Projection::kFootprint ||
-                            kFootprintNodeCost * footprint_.nodes().size() < mesh_.velocity_nodes();
+    // kCheaper: the footprint while kFootprintNodeCost × its nodes < the mesh's nodes; a crowd's
+    // build stops at that size (the sweep then) instead of walking every cell's stencils.
+    const bool forced = options_.projection == CouplingOptions::Projection::kFootprint;
+    project_at_footprint_ = footprint_.build(mesh_, stencils,
+                                             forced ? std::numeric_limits<std::size_t>::max() : (mesh_.velocity_nodes() - 1) / kFootprintNodeCost);
   }
   if (project_at_footprint_) {
     project_at_footprint(u, flow_.projection().exact_pressure(u, flow_.params().fluid.density, dt_));
