@@ -93,8 +93,6 @@ else report=paper/report; fi
 times_record=paper/report/data/case_times.csv   # exp,case,seconds of the last full run (ordering, estimates)
 command="make $mode$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
 mkdir -p "$results" "$report"
-# A report is written whole: nothing of an earlier one stays beside it (the run times record stays).
-[ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 log() { echo "rbcflow $mode: $*" >&2; }
 
 # Results made by other code move aside (results/older/<experiment>.<code>), once per folder.
@@ -168,6 +166,12 @@ progress() {
 interrupted=0
 trap 'interrupted=1' INT TERM
 total=$(wc -l < "$jobs_file")
+# Cases finished at this code before this invocation (an interrupted one of this command, or
+# another command such as make evidence): read back, their run time is not in this wall time.
+read_back=0
+while read -r exp name; do
+  [ -f "$results/$exp/$([ "$name" = - ] && echo run || echo "$name")/summary.json" ] && read_back=$((read_back + 1))
+done < "$jobs_file"
 if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
   joblog="$results/joblog_$mode"
   log "$total cases of ${run_list[*]} on $JOBS cores, the longest first (jobs: $jobs_file, joblog: $joblog)"
@@ -188,6 +192,10 @@ if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
   [ "$failed" -gt 0 ] && log "$failed cases stopped (their rows say why; logs in $results/<experiment>/<case>.log)"
 fi
 trap - INT TERM
+
+# A report is written whole: nothing of an earlier one stays beside it (the run times record
+# stays). Only now, with every case finished: an interrupted run leaves the last report intact.
+[ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 
 # Collect every experiment: its comparison (check.md/.csv), figures, movie and section.
 movie_experiments=" single_cell_migration four_cells_vs_disks cell_free_layer constriction "
@@ -332,6 +340,7 @@ out="$report/README.md.tmp"
   echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')") |"
   echo "| wall time | $wall_total s |"
   [ "$invocations" -gt 1 ] && echo "| invocations | $invocations at this code (interrupted and continued, or read back; this one $wall_all s) |"
+  [ "$COLLECT" != "1" ] && [ "$read_back" -gt 0 ] && echo "| cases read back | $read_back of $total, finished at this code before this invocation (by an earlier one or another command; their run time is in their experiment's row, not in this wall time) |"
   [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then

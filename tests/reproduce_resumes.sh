@@ -31,7 +31,9 @@ run stopped > "$work/again.log" 2>&1 || { cat "$work/again.log"; exit 1; }
 grep -q 'resuming' "$work"/stopped/cell_free_layer/n*.log || { echo "no case resumed"; cat "$work"/stopped/cell_free_layer/n*.log; exit 1; }
 
 # SIGINT to GNU parallel alone (its pid, as a batch system may send it) stops the command as well:
-# exit 130 and no report of missing cases.
+# exit 130 and no report of missing cases; the report already there (the straight run's) stays
+# whole, its figures and data included.
+mkdir -p "$work/parallel_stopped" && cp -r "$work/straight/report" "$work/parallel_stopped/report"
 run parallel_stopped > "$work/parallel_stopped.log" 2>&1 &
 pid=$!
 for _ in $(seq 1200); do
@@ -41,7 +43,8 @@ done
 pkill -INT -f "parallel .*$work/parallel_stopped/joblog_reproduce"
 rc=0; wait "$pid" || rc=$?
 [ "$rc" = 130 ] || { echo "the run whose GNU parallel was interrupted exited with $rc, not 130"; cat "$work/parallel_stopped.log"; exit 1; }
-[ ! -f "$work/parallel_stopped/report/README.md" ] || { echo "a report was written after GNU parallel was interrupted"; exit 1; }
+cmp -s "$work/straight/report/README.md" "$work/parallel_stopped/report/README.md" || { echo "a report was written after GNU parallel was interrupted"; exit 1; }
+diff -r "$work/straight/report" "$work/parallel_stopped/report" > /dev/null || { echo "the interrupted run changed the earlier report's figures or data"; exit 1; }
 
 # The rows (id, ours, verdict) of both reports, and every case's summary but its wall time.
 rows() { cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
