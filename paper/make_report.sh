@@ -166,8 +166,8 @@ progress() {
 interrupted=0
 trap 'interrupted=1' INT TERM
 total=$(wc -l < "$jobs_file")
-# Cases finished at this code before this invocation (an interrupted one of this command, or
-# another command such as make evidence): read back, their run time is not in this wall time.
+# Cases finished at this code before this invocation (by an interrupted one of this command,
+# whose time is in the wall total, or by another command such as make evidence, whose is not).
 read_back=0
 while read -r exp name; do
   [ -f "$results/$exp/$([ "$name" = - ] && echo run || echo "$name")/summary.json" ] && read_back=$((read_back + 1))
@@ -340,7 +340,7 @@ out="$report/README.md.tmp"
   echo "| parameters | $([ "$QUICK" = "1" ] && echo 'quick (CI)' || echo "full length (each row's scheme, Δt and departures: column 'how run')") |"
   echo "| wall time | $wall_total s |"
   [ "$invocations" -gt 1 ] && echo "| invocations | $invocations at this code (interrupted and continued, or read back; this one $wall_all s) |"
-  [ "$COLLECT" != "1" ] && [ "$read_back" -gt 0 ] && echo "| cases read back | $read_back of $total, finished at this code before this invocation (by an earlier one or another command; their run time is in their experiment's row, not in this wall time) |"
+  [ "$COLLECT" != "1" ] && [ "$read_back" -gt 0 ] && echo "| cases read back | $read_back of $total, finished at this code before this invocation: by an earlier invocation of this command (their time then in the wall time above) or by another command such as make evidence (then only in their experiment's row) |"
   [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
