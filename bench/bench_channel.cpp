@@ -2,7 +2,7 @@
 // the same grid, measured in the same run (machines are noisy; ratios travel better); then the
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
 // Then the constriction (issue 15): the same steps with and without the fictitious domain.
-//   build/bin/bench_channel [--threads N] [--cells-only | --target-only | --constriction-only | --disks-only | --crowd-only]
+//   build/bin/bench_channel [--threads N] [--cells-only | --target-only (both targets) | --constriction-only | --disks-only | --crowd-only]
 //                           [--crowd-steps N] [--crowd-from DIR] [--crowd-case NAME] [--coupling-start linear|constant]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
 // nx × ny grid (FFTW_ESTIMATE, as our solvers plan); we also print the pair of batched 1D
@@ -141,38 +141,58 @@ static void bench_cells() {
   }
 }
 
-// Issue 4's target, measured as a ratio in one run: 100 cells, the explicit step at 6e-8 s and
-// the semi-implicit one at 1.2e-6 s (20 times), both from the developed flow, timed in
-// alternating rounds of 120 explicit and 30 semi-implicit steps (about as long; 30 steps are one
-// rebuild interval of the preconditioner), so that the machine's slow and fast spells fall on
-// both. Prints the mean per step of each over all rounds, their ratio, and the range of the
-// rounds' own ratios.
+// Two steps' cost as a ratio in one run: simulation a (n_a steps a round) and b (n_b steps, about
+// as long), both from the developed flow after `warm` steps each, timed in alternating rounds so
+// that the machine's slow and fast spells fall on both. Prints the mean per step of each over all
+// rounds, their ratio, and the range of the rounds' own ratios; returns the ratio b / a.
+static double alternating_ratio(rbc::Simulation& a, int n_a, rbc::Simulation& b, int n_b, int warm, int rounds, const char* names,
+                                double target) {
+  for (int i = 0; i < warm; ++i) {
+    a.step();
+    a.check_health();
+    b.step();
+    b.check_health();
+  }
+  double ta = 0, tb = 0, lo = 1e9, hi = 0;
+  auto time_steps = [](rbc::Simulation& sim, int n) {
+    const auto t0 = clk::now();
+    for (int i = 0; i < n; ++i) { sim.step(); sim.check_health(); }
+    return std::chrono::duration<double>(clk::now() - t0).count() / n;
+  };
+  for (int r = 0; r < rounds; ++r) {
+    const double ea = time_steps(a, n_a), eb = time_steps(b, n_b);
+    ta += ea;
+    tb += eb;
+    lo = std::min(lo, eb / ea);
+    hi = std::max(hi, eb / ea);
+  }
+  std::printf("%s: %.2f ms and %.2f ms per step: %.2f times (rounds %.2f-%.2f; target at most %g)\n", names, ta / rounds * 1e3,
+              tb / rounds * 1e3, tb / ta, lo, hi, target);
+  return tb / ta;
+}
+
+// Issue 4's target: 100 cells, the explicit step at 6e-8 s and the semi-implicit one at 1.2e-6 s
+// (20 times), in rounds of 120 explicit and 30 semi-implicit steps (30 steps are one rebuild
+// interval of the preconditioner).
 static void bench_target(int rounds) {
   std::printf("\nTarget (issue 4): 100 cells, semi-implicit at 1.2e-6 s against explicit at 6e-8 s, %d alternating rounds\n", rounds);
   rbc::Simulation ex(wide_scene(100, "explicit", 6e-8)), si(wide_scene(100, "semi-implicit", 1.2e-6));
   ex.start_from_cell_free_profile();
   si.start_from_cell_free_profile();
-  for (int i = 0; i < 30; ++i) {
-    ex.step();
-    ex.check_health();
-    si.step();
-    si.check_health();
-  }
-  double te = 0, ts = 0, lo = 1e9, hi = 0;
-  for (int r = 0; r < rounds; ++r) {
-    auto t0 = clk::now();
-    for (int i = 0; i < 120; ++i) { ex.step(); ex.check_health(); }
-    const double e = std::chrono::duration<double>(clk::now() - t0).count() / 120;
-    t0 = clk::now();
-    for (int i = 0; i < 30; ++i) { si.step(); si.check_health(); }
-    const double s = std::chrono::duration<double>(clk::now() - t0).count() / 30;
-    te += e;
-    ts += s;
-    lo = std::min(lo, s / e);
-    hi = std::max(hi, s / e);
-  }
-  std::printf("explicit %.2f ms per step, semi-implicit %.2f ms per step: %.2f times (rounds %.2f-%.2f; target at most 3)\n",
-              te / rounds * 1e3, ts / rounds * 1e3, ts / te, lo, hi);
+  alternating_ratio(ex, 120, si, 30, 30, rounds, "explicit, semi-implicit", 3);
+}
+
+// Issue 41's one-cell target: the semi-implicit step with one cell against the explicit one, as
+// the wide single-cell runs take them (one cell at (25, 10) um; the explicit step at 8e-8 s with
+// the Q = 1 its advective bound needs, the semi-implicit at the runs' 6e-6 s with their Q = 4), in
+// rounds of 100 explicit and 40 semi-implicit steps.
+static void bench_one_cell_target(int rounds) {
+  std::printf("\nTarget (issue 41): one cell, the semi-implicit step at 6e-6 s (Q = 4) against the explicit at 8e-8 s, %d alternating rounds\n",
+              rounds);
+  rbc::Simulation ex(wide_scene(1, "explicit", 8e-8, 1)), si(wide_scene(1, "semi-implicit", 6e-6, 4));
+  ex.start_from_cell_free_profile();
+  si.start_from_cell_free_profile();
+  alternating_ratio(ex, 100, si, 40, 10, rounds, "explicit, semi-implicit", 1.5);
 }
 
 // The constriction experiment's grid (120 x 30 um, h = 0.3125 um: 384 x 96) and step (semi-
@@ -467,11 +487,13 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (target_only) {
+    bench_one_cell_target(10);
     bench_target(10);
     return 0;
   }
   if (cells_only) {
     bench_cells();
+    bench_one_cell_target(10);
     bench_target(10);
     return 0;
   }
@@ -504,6 +526,7 @@ int main(int argc, char** argv) {
                 f.pair2d * 1e6, f.pair1d * 1e6, step / f.pair2d, step / f.pair1d, proj * 1e6, adv * 1e6);
   }
   bench_cells();
+  bench_one_cell_target(10);
   bench_target(10);
   bench_constriction();
   bench_footprint();
