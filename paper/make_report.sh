@@ -192,7 +192,7 @@ while read -r exp name; do
 done < "$jobs_file"
 if [ "$COLLECT" != "1" ] && [ "$total" -gt 0 ]; then
   joblog="$results/joblog_$mode"
-  log "$total cases of ${run_list[*]} on $JOBS cores, the longest first (jobs: $jobs_file, joblog: $joblog)"
+  log "$total cases of ${run_list[*]} on $JOBS cores, the longest first, two crowds not side by side (jobs: $jobs_file, joblog: $joblog)"
   progress "$joblog" "$total" & progress_pid=$!
   # On Ctrl-C (or TERM) GNU parallel passes SIGINT on to every running case (each in its own
   # process group) and gives it a minute to write its checkpoint before TERM and KILL.
@@ -213,11 +213,13 @@ trap - INT TERM
 
 # A report is written whole: nothing of an earlier one stays beside it (the run times record
 # stays). Only now, with every case finished: an interrupted run leaves the last report intact.
+# The report's movies as they are, kept where the new ones show the same frames (below).
+kept=$(mktemp -d); cp "$report/figures/"*_movie.gif "$kept/" 2>/dev/null
 [ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 
 # Collect every experiment: its comparison (check.md/.csv), figures, movie and section.
 movie_experiments=" single_cell_migration four_cells_vs_disks cell_free_layer constriction "
-sections=$(mktemp -d); trap 'rm -rf "$sections"' EXIT
+sections=$(mktemp -d); trap 'rm -rf "$sections" "$kept"' EXIT
 status=0
 declare -A exp_wall
 for exp in "${run_list[@]}"; do
@@ -236,6 +238,12 @@ for exp in "${run_list[@]}"; do
   figdir="$report/figures"; mkdir -p "$figdir"
   rm -f "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif
   gnuplot -e "dir='$dir'; figdir='$figdir'" "experiments/$exp/plot.gp" > "$dir/plot.log" 2>&1 || { status=1; log "$exp: a figure failed ($dir/plot.log)"; }
+  # gnuplot's GIFs place a few colours at other table slots from run to run: a movie that shows
+  # the same frames as the report's keeps its bytes (no new copy in git for the same pixels).
+  for movie in "$figdir/${exp}"_*.gif; do
+    [ -f "$movie" ] && [ -f "$kept/$(basename "$movie")" ] && python3 experiments/common/gif_same_frames.py "$kept/$(basename "$movie")" "$movie" \
+      && mv "$kept/$(basename "$movie")" "$movie"
+  done
   # The evidence's figures (error against run time, the evidence runs, the units) go to the
   # evidence report, the study's to the reproduction report.
   for fig in "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif; do
