@@ -47,8 +47,10 @@ ens = 'layer_'.run('n50').'.dat '.system(sprintf("cd %s && ls layer_n*_seed*.dat
 long = last_time('n50') > 100
 rep = dir.'/layer_n50_repulsion.dat'  # the evidence run (full runs only)
 has_rep = system('test -f '.rep.' && echo 1 || echo 0') eq "1"
-plot dir.'/layer_'.run('n50').'.dat' using 1:4 with lines lw 2 lc 1 title '50 cells, '.run('n50').' (thin dashed: the other arrangements)', \
-     dir.'/layer_'.run('n100').'.dat' using 1:4 with lines lw 2 lc 2 title '100 cells, '.run('n100').' (thin dashed: the other arrangements)', \
+# (the other arrangements are make evidence's runs: drawn where it ran on this machine)
+others = words(ens) > 1 ? ' (thin dashed: the other arrangements)' : ''
+plot dir.'/layer_'.run('n50').'.dat' using 1:4 with lines lw 2 lc 1 title '50 cells, '.run('n50').others noenhanced, \
+     dir.'/layer_'.run('n100').'.dat' using 1:4 with lines lw 2 lc 2 title '100 cells, '.run('n100').others noenhanced, \
      for [i=1:words(ens)] dir.'/'.word(ens, i) using 1:4 with lines lw 0.7 dt 2 lc (strstrt(word(ens, i), 'n100') ? 2 : 1) notitle, \
      (has_rep ? rep : dir.'/layer_'.run('n50').'.dat') using 1:(has_rep ? $4 : 1/0) with lines lw 1 dt 3 lc 3 title (has_rep ? '50 cells with the repulsion' : ''), \
      '-' using (long ? $1 : 1/0):2 with points pt 7 ps 1.5 lc rgb 'black' title 'study', \
