@@ -53,3 +53,16 @@ for c in n50 n100; do
   diff <(grep -v wall_seconds "$work/straight/cell_free_layer/$c/summary.json") <(grep -v wall_seconds "$work/stopped/cell_free_layer/$c/summary.json")
 done
 echo "interrupted and resumed: the same rows and summaries as the straight run"
+
+# The report written again from the same runs keeps its movie's bytes (gnuplot places a few colours
+# at other table slots from run to run: experiments/common/gif_same_frames.py), and that
+# comparison tells other frames apart.
+movie="$work/straight/report/figures/cell_free_layer_movie.gif"
+[ -s "$movie" ] || { echo "no movie in the quick report"; exit 1; }
+cp "$movie" "$work/movie.gif"
+COLLECT=1 run straight > "$work/collect.log" 2>&1 || { cat "$work/collect.log"; exit 1; }
+cmp -s "$movie" "$work/movie.gif" || { echo "the movie of the same runs was written as other bytes"; exit 1; }
+gnuplot -e "set terminal gif animate size 200,100; set output '$work/other.gif'; plot x; plot x**2" 2> /dev/null
+rc=0; python3 "$src/experiments/common/gif_same_frames.py" "$movie" "$work/other.gif" || rc=$?
+[ "$rc" = 1 ] || { echo "gif_same_frames.py found other frames the same (exit $rc)"; exit 1; }
+echo "the same runs' movie kept its bytes; other frames told apart"
