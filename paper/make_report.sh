@@ -125,7 +125,7 @@ done
 # except that two crowds (cell_free_layer's cases, 50 or 100 cells) do not run side by side while
 # another case can take the other core. Two crowds slow each other by a third (their working sets
 # share the last-level cache; measured one thread each, 2 cores: the 100 cells at 70–73 steps/s
-# beside a four-cell or a one-cell case, 46–48 beside another crowd, the other pairs at full
+# beside a four-cell or a one-cell case, 45–50 beside another crowd, the other pairs at full
 # speed). The order is parallel's: planned by playing the list on JOBS cores with those times.
 apart='^cell_free_layer '
 if [ -f "$times_record" ] && [ "$QUICK" != "1" ]; then
