@@ -241,8 +241,8 @@ for exp in "${run_list[@]}"; do
   # gnuplot's GIFs place a few colours at other table slots from run to run: a movie that shows
   # the same frames as the report's keeps its bytes (no new copy in git for the same pixels).
   for movie in "$figdir/${exp}"_*.gif; do
-    [ -f "$movie" ] && [ -f "$kept/$(basename "$movie")" ] && python3 experiments/common/gif_same_frames.py "$kept/$(basename "$movie")" "$movie" \
-      && mv "$kept/$(basename "$movie")" "$movie"
+    earlier="$kept/${movie##*/}"
+    [ -f "$movie" ] && [ -f "$earlier" ] && python3 experiments/common/gif_same_frames.py "$earlier" "$movie" && mv "$earlier" "$movie"
   done
   # The evidence's figures (error against run time, the evidence runs, the units) go to the
   # evidence report, the study's to the reproduction report.
