@@ -23,8 +23,10 @@ class HelmholtzGreen {
  public:
   explicit HelmholtzGreen(PeriodicBandedSolver& A);
   // (A⁻¹)_{k k'} for interior-row indices k, k' (x1 fastest).
-  double operator()(int k, int kp) const {
-    const int r = k / nx_, i = k - r * nx_, rp = kp / nx_, ip = kp - rp * nx_;
+  double operator()(int k, int kp) const { return at(k / nx_, k % nx_, kp / nx_, kp % nx_); }
+  // The same entry by row and column, (r, i) and (r', i'): no divisions, for callers that look up
+  // many pairs of the same points (the disks' capacitance systems at every step).
+  double at(int r, int i, int rp, int ip) const {
     int d = i - ip;
     if (d < 0) d += nx_;
     return g_[(std::size_t(rp) * rows_ + std::size_t(r)) * std::size_t(nx_) + std::size_t(d)];

@@ -103,6 +103,18 @@ void DiskConstraint::set_disks(const std::vector<Disk>& disks) {
     const DiskPoints p = disk_points(m_, disk);
     const int nr = int(p.ring.size()), nd = int(p.deep.size());
     Factors f;
+    // Every point's nodes as (interior row, column), found once: the table is read for every pair
+    // of points below, by row and column (HelmholtzGreen::at).
+    using Nodes = std::array<std::array<int, 2>, 4>;
+    auto rows_columns = [&](const DiskPoints::Point& pt) {
+      Nodes rc{};
+      for (int x = 0; x < pt.count; ++x) rc[std::size_t(x)] = {pt.nodes[std::size_t(x)] / m_.nx, pt.nodes[std::size_t(x)] % m_.nx};
+      return rc;
+    };
+    std::vector<Nodes> ring(static_cast<std::size_t>(nr)), deep(static_cast<std::size_t>(nd));
+    for (int a = 0; a < nr; ++a) ring[std::size_t(a)] = rows_columns(p.ring[std::size_t(a)]);
+    for (int d = 0; d < nd; ++d) deep[std::size_t(d)] = rows_columns(p.deep[std::size_t(d)]);
+    auto green = [&](const std::array<int, 2>& k, const std::array<int, 2>& kp) { return green_.at(k[0], k[1], kp[0], kp[1]); };
     // S_R = B_R A⁻¹ B_Rᵀ from the table.
     Eigen::MatrixXd S(nr, nr);
     for (int a = 0; a < nr; ++a)
@@ -111,7 +123,7 @@ void DiskConstraint::set_disks(const std::vector<Disk>& disks) {
         for (int x = 0; x < p.ring[std::size_t(a)].count; ++x)
           for (int y = 0; y < p.ring[std::size_t(b)].count; ++y)
             s += p.ring[std::size_t(a)].weights[std::size_t(x)] * p.ring[std::size_t(b)].weights[std::size_t(y)] *
-                 green_(p.ring[std::size_t(a)].nodes[std::size_t(x)], p.ring[std::size_t(b)].nodes[std::size_t(y)]);
+                 green(ring[std::size_t(a)][std::size_t(x)], ring[std::size_t(b)][std::size_t(y)]);
         S(a, b) = S(b, a) = s;
       }
     f.S.compute(S);
@@ -120,11 +132,15 @@ void DiskConstraint::set_disks(const std::vector<Disk>& disks) {
     Eigen::MatrixXd K[2] = {Eigen::MatrixXd::Zero(nr, 3), Eigen::MatrixXd::Zero(nr, 3)};
     for (int a = 0; a < nr; ++a) {
       const DiskPoints::Point& pa = p.ring[std::size_t(a)];
+      // Row a of each K summed in registers, then stored (the sum of the strided row in place
+      // waited on its own stores at every deep node).
+      Eigen::RowVector3d row[2] = {Eigen::RowVector3d::Zero(), Eigen::RowVector3d::Zero()};
       for (int d = 0; d < nd; ++d) {
         double g = 0;
-        for (int x = 0; x < pa.count; ++x) g += pa.weights[std::size_t(x)] * green_(pa.nodes[std::size_t(x)], p.deep[std::size_t(d)].nodes[0]);
-        for (int comp = 0; comp < 2; ++comp) K[comp].row(a) += c_ * g * rigid_row(comp, p.deep[std::size_t(d)].offset);
+        for (int x = 0; x < pa.count; ++x) g += pa.weights[std::size_t(x)] * green(ring[std::size_t(a)][std::size_t(x)], deep[std::size_t(d)][0]);
+        for (int comp = 0; comp < 2; ++comp) row[comp] += c_ * g * rigid_row(comp, p.deep[std::size_t(d)].offset);
       }
+      for (int comp = 0; comp < 2; ++comp) K[comp].row(a) = row[comp];
       for (int comp = 0; comp < 2; ++comp) {
         if (f.Q[comp].rows() == 0) f.Q[comp] = Eigen::MatrixXd::Zero(nr, 3);
         f.Q[comp].row(a) = rigid_row(comp, pa.offset);
