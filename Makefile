@@ -46,15 +46,15 @@ build-runs: deps
 
 test: test-release test-sanitize
 
+# The longest tests start first (both test targets): on a clean clone ctest has no times of its
+# own yet, so build folder $(1) is given one CI run's (tests/ctest_cost_data.txt, "name runs
+# seconds", each test's time in the build where it is longer); ctest keeps its own from then on.
+# Measured: the 120 s reproduce test, started last by default, ran 40 s alone on two cores.
+seed_costs = mkdir -p $(1)/Testing/Temporary && { [ -f $(1)/Testing/Temporary/CTestCostData.txt ] || cp tests/ctest_cost_data.txt $(1)/Testing/Temporary/CTestCostData.txt; }
+
 # Tests run $(JOBS) at a time with one OpenMP thread each: two 2-thread test processes on two
 # cores made threads wait at barriers for each other's time slices (measured: a 62 s test took
 # over 7 min). Tests that set a thread count themselves keep it.
-# The longest tests start first: on a clean clone ctest has no times of its own yet, so it is given
-# those of a CI run (tests/ctest_cost_data.txt, "name runs seconds"; ctest keeps them up to date
-# in the build folder from then on). Measured: the 120 s reproduce test, started last by default,
-# kept one core busy 40 s after the other had finished.
-seed_costs = mkdir -p $(1)/Testing/Temporary && { [ -f $(1)/Testing/Temporary/CTestCostData.txt ] || cp tests/ctest_cost_data.txt $(1)/Testing/Temporary/CTestCostData.txt; }
-
 test-release: build
 	$(call seed_costs,$(BUILD))
 	cd $(BUILD) && OMP_NUM_THREADS=1 ctest --output-on-failure -j $(JOBS)
