@@ -217,13 +217,15 @@ trap - INT TERM
 kept=$(mktemp -d); cp "$report/figures/"*_movie.gif "$kept/" 2>/dev/null
 [ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 
-# Collect every experiment: its comparison (check.md/.csv), figures, movie and section.
+# Collect every experiment: its comparison (check.md/.csv), figures, movie and section. The
+# experiments are independent (each writes its own folder, its own figures and its section), so
+# GNU parallel collects JOBS at a time; each leaves its section, its time and whether it went
+# wrong in $sections (read back below, in the list's order).
 movie_experiments=" single_cell_migration four_cells_vs_disks cell_free_layer constriction "
 sections=$(mktemp -d); trap 'rm -rf "$sections" "$kept"' EXIT
-status=0
-declare -A exp_wall
-for exp in "${run_list[@]}"; do
-  dir="$results/$exp"
+collect_one() {  # exp
+  local exp=$1 status=0
+  local dir="$results/$exp" t0 flags rc figdir movie earlier fig cases_s exp_wall
   t0=$(date +%s)
   flags="--check $quick_flag $(part_flag "$exp")"
   if has_flag "$exp" --collect; then flags="$flags --collect"
@@ -267,13 +269,13 @@ for exp in "${run_list[@]}"; do
   # The experiment's run time: its cases' own (one thread each; a resumed case's includes the time
   # before its interruption) plus this step's.
   cases_s=$(awk -F, '{s += $3} END {printf "%d", s}' "$dir/case_times.csv" 2>/dev/null)
-  exp_wall[$exp]="$(( ${cases_s:-0} + $(date +%s) - t0 ))"
+  exp_wall="$(( ${cases_s:-0} + $(date +%s) - t0 ))"
   {
     echo "## $exp"
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
-    echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: ${exp_wall[$exp]} s."
+    echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: $exp_wall s."
     echo
     if [ -f "$dir/check.md" ]; then cat "$dir/check.md"; elif [ "$mode" = reproduce ]; then echo "(no comparison table: the run failed; see $dir/check.log)"; fi
     echo
@@ -310,7 +312,15 @@ for exp in "${run_list[@]}"; do
       echo; echo "![$(basename "$movie" .gif)](figures/$(basename "$movie"))"; echo
     done
   } > "$sections/$exp.md"
-done
+  echo "$exp_wall" > "$sections/$exp.wall"
+  return $status
+}
+export -f collect_one log
+export report kept sections movie_experiments
+status=0
+[ "${#run_list[@]}" -gt 0 ] && { printf '%s\n' "${run_list[@]}" | parallel --will-cite -j "$JOBS" --line-buffer collect_one || status=1; }
+declare -A exp_wall
+for exp in "${run_list[@]}"; do exp_wall[$exp]=$(cat "$sections/$exp.wall" 2>/dev/null); done
 
 # make evidence: the record of u_num, with this commit and code (reference-data/uncertainty/).
 if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncertainty.csv 2>/dev/null)" ]; then
