@@ -219,13 +219,13 @@ kept=$(mktemp -d); cp "$report/figures/"*_movie.gif "$kept/" 2>/dev/null
 
 # Collect every experiment: its comparison (check.md/.csv), figures, movie and section. The
 # experiments are independent (each writes its own folder, its own figures and its section), so
-# GNU parallel collects JOBS at a time; each leaves its section, its time and whether it went
-# wrong in $sections (read back below, in the list's order).
+# GNU parallel collects JOBS at a time; each leaves its section and its time in $sections (read
+# back below, in the list's order) and exits 1 if anything of it went wrong.
 movie_experiments=" single_cell_migration four_cells_vs_disks cell_free_layer constriction "
 sections=$(mktemp -d); trap 'rm -rf "$sections" "$kept"' EXIT
 collect_one() {  # exp
   local exp=$1 status=0
-  local dir="$results/$exp" t0 flags rc figdir movie earlier fig cases_s exp_wall
+  local dir="$results/$exp" t0 flags rc figdir movie earlier fig cases_s seconds
   t0=$(date +%s)
   flags="--check $quick_flag $(part_flag "$exp")"
   if has_flag "$exp" --collect; then flags="$flags --collect"
@@ -269,13 +269,13 @@ collect_one() {  # exp
   # The experiment's run time: its cases' own (one thread each; a resumed case's includes the time
   # before its interruption) plus this step's.
   cases_s=$(awk -F, '{s += $3} END {printf "%d", s}' "$dir/case_times.csv" 2>/dev/null)
-  exp_wall="$(( ${cases_s:-0} + $(date +%s) - t0 ))"
+  seconds="$(( ${cases_s:-0} + $(date +%s) - t0 ))"
   {
     echo "## $exp"
     echo
     sed -n '/^## Claim/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'
     echo
-    echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: $exp_wall s."
+    echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: $seconds s."
     echo
     if [ -f "$dir/check.md" ]; then cat "$dir/check.md"; elif [ "$mode" = reproduce ]; then echo "(no comparison table: the run failed; see $dir/check.log)"; fi
     echo
@@ -312,7 +312,7 @@ collect_one() {  # exp
       echo; echo "![$(basename "$movie" .gif)](figures/$(basename "$movie"))"; echo
     done
   } > "$sections/$exp.md"
-  echo "$exp_wall" > "$sections/$exp.wall"
+  echo "$seconds" > "$sections/$exp.wall"
   return $status
 }
 export -f collect_one log
