@@ -92,29 +92,46 @@ TEST(ReferenceData, UnresolvedWhenOurUncertaintyIsLargerThanTheToleranceAndReach
 }
 
 TEST(Uncertainty, GridConvergenceIndexFindsTheOrderAndTheLimitOfAFirstOrderSequence) {
-  // f = 3 + 0.5 Δt at Δt = 1, 2, 4: order 1, Fs 1.25, GCI 1.25 |f2 − f1| / (2 − 1), limit 3.
+  // f = 3 + 0.5 Δt at Δt = 1, 2, 4: order 1 (ln(1/0.5)/ln 2), exact δ_RE; the few-points σ is
+  // min(σ_1, σ_2) = 0 (the data lie on δ_1); Fs 1.25; U = 1.25 |f_fit(1) − 3| = 0.625, limit 3.
   RefinementUncertainty u = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1);
+  EXPECT_EQ(u.levels, 3);
   EXPECT_NEAR(u.observed_order, 1.0, 1e-12);
   EXPECT_DOUBLE_EQ(u.safety_factor, 1.25);
   EXPECT_NEAR(u.u, 0.625, 1e-12);
   EXPECT_NEAR(u.extrapolated, 3.0, 1e-12);
-  // Second order observed in a first-order scheme: no credit above the formal order.
+  // Second order observed in a first-order scheme (f = 1 + 0.25 Δt²): p = 2 is above p_hi = 1, so
+  // the fixed-order fits decide; δ_2 fits exactly (σ 0; δ_1's σ is 0.40), limit 1, ε = 0.25, and
+  // Fs 3 for an order outside [0.25, 1.05): U = 3 · 0.25.
   u = grid_convergence_index({1.25, 2.0, 5.0}, 2, 1);
   EXPECT_NEAR(u.observed_order, 2.0, 1e-12);
-  EXPECT_NEAR(u.u, 1.25 * 0.75, 1e-12);
-  // Two levels, or oscillating ones: the formal order and Fs 3.
+  EXPECT_EQ(u.fit, RefinementFit::FixedHigh);
+  EXPECT_DOUBLE_EQ(u.safety_factor, 3.0);
+  EXPECT_NEAR(u.extrapolated, 1.0, 1e-12);
+  EXPECT_NEAR(u.u, 0.75, 1e-12);
+  // Two levels: the formal order and Fs 3, 3 |4.0 − 3.5| / (2 − 1).
   EXPECT_NEAR(grid_convergence_index({3.5, 4.0}, 2, 1).u, 1.5, 1e-12);
+  // Oscillating: no order; δ_1 (f = 3.6 + Δt/14, residuals −6/35, 9/35, −3/35, σ = sqrt(126/1225))
+  // fits better than δ_2 (σ 0.34); σ ≥ Δ_φ = (4.0 − 3.5)/2, so U = 3 σ/Δ_φ (ε + σ + |res|) with
+  // ε = 1/14 and |res| = 6/35: noise, no convergence observed.
   u = grid_convergence_index({3.5, 4.0, 3.8}, 2, 1);
   EXPECT_FALSE(std::isfinite(u.observed_order));
-  EXPECT_NEAR(u.u, 1.5, 1e-12);
-  // An order far outside the formal one (pre-asymptotic): Fs 3.
+  EXPECT_EQ(u.fit, RefinementFit::FixedLow);
+  EXPECT_TRUE(u.noise_dominated);
+  const double sigma = std::sqrt(126.0 / 1225.0);
+  EXPECT_NEAR(u.fit_sigma, sigma, 1e-12);
+  EXPECT_NEAR(u.u, 3 * sigma / 0.25 * (1.0 / 14 + sigma + 6.0 / 35), 1e-12);
+  EXPECT_NEAR(u.extrapolated, 3.6, 1e-12);
+  // An order far outside the formal one (pre-asymptotic, p = ln(1.03/0.09)/ln 2 = 3.5): Fs 3.
   EXPECT_DOUBLE_EQ(grid_convergence_index({12.19, 12.28, 13.31}, 2, 1).safety_factor, 3.0);
   EXPECT_THROW(grid_convergence_index({1.0}, 2, 1), std::invalid_argument);
+  EXPECT_THROW(grid_convergence_index({1.0, 2.0}, 1, 1), std::invalid_argument);
+  EXPECT_THROW(grid_convergence_index({1.0, 2.0}, 2, 0), std::invalid_argument);
 }
 
 TEST(Uncertainty, GridConvergenceIndexOfTheSecondFinestRunIsItsDistanceToTheLimitWithTheSafetyFactor) {
-  // f = 3 + 0.5 Δt at Δt = 1, 2, 4, reported at Δt = 2 (the Δt = 1 run is evidence only): the
-  // coarse-grid GCI 1.25 |f2 − f1| 2 / (2 − 1) = 1.25, i.e. Fs times f2's distance 1.0 to the limit.
+  // f = 3 + 0.5 Δt at Δt = 1, 2, 4, reported at Δt = 2 (the Δt = 1 run is evidence only):
+  // U = Fs ε_1 = 1.25 |f_fit(2) − 3| = 1.25, i.e. Fs times f2's distance 1.0 to the limit.
   const RefinementUncertainty u = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 1);
   EXPECT_EQ(u.reported, 1);
   EXPECT_NEAR(u.u, 1.25 * (4.0 - 3.0), 1e-12);
@@ -136,7 +153,13 @@ TEST(Uncertainty, WindowNoiseIsTheSpreadOfTheLastWindowsMeansAndPartsAddInQuadra
   n.ensemble = 0.3;
   n.members = 4;
   n.window = 0.4;
-  EXPECT_NEAR(*n.total(), 0.5, 1e-12);
+  // Both 1σ parts at 95 % (k = 2): sqrt(0.6² + 0.8²) = 2 · 0.5 = 1.0.
+  EXPECT_NEAR(*n.total(), 1.0, 1e-12);
+  // A Δt part (already 95 %) and a part in words count as given: sqrt(1.0² + 1.2² + 1.6²) = 2.2.
+  n.dt = RefinementUncertainty{};
+  n.dt->u = 1.2;
+  n.other_value = 1.6;
+  EXPECT_NEAR(*n.total(), std::sqrt(1.0 + 1.44 + 2.56), 1e-12);
   EXPECT_NE(n.describe().find("ensemble of 4: s 0.3"), std::string::npos) << n.describe();
 }
 
@@ -157,15 +180,16 @@ TEST(ReferenceData, CheckerPassesWithinToleranceFailsOutsideAndSkipsWhatDidNotRu
   EXPECT_NE(out.str().find("FAIL"), std::string::npos);
 }
 
-TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutsideIt) {
+TEST(ReferenceData, RecordedDeviationWithItsCauseShownIsADeviationInsideItsBandAndAFailureOutsideIt) {
   const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 3", "r", ""}};
-  const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
-  // Outside the study's 1 %, inside our own band: a DEVIATION, which is not a failure.
+  const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence", "run x"}}};
+  // Outside the study's 1 %, inside our own band, the cause shown: a DEVIATION, not a failure.
   CheckSummary s = compare_with_reference(rows, {{"re", measured(0.5205)}}, dev, true);
   EXPECT_EQ(s.deviations, 1);
   EXPECT_EQ(s.failed, 0);
   EXPECT_TRUE(s.ok());
   EXPECT_EQ(s.rows[0].note.substr(0, 5), "cause");
+  EXPECT_NE(s.rows[0].note.find("Shown by: run x"), std::string::npos) << s.rows[0].note;
   EXPECT_EQ(s.rows[0].difference, "+0.0205");  // the distance to the study stays visible
   // The code moved the result out of the recorded band: a FAIL, though it is a known deviation.
   s = compare_with_reference(rows, {{"re", measured(0.523)}}, dev, true);
@@ -180,9 +204,48 @@ TEST(ReferenceData, RecordedDeviationIsADeviationInsideItsBandAndAFailureOutside
   EXPECT_EQ(s.failed, 1);
 }
 
+TEST(ReferenceData, RecordedDeviationWhoseCauseNoRunShowsIsUnexplainedAndNotAFailure) {
+  // The same record without the run or arithmetic that shows its cause: believed, not shown.
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 3", "r", ""}};
+  const std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence", ""}}};
+  CheckSummary s = compare_with_reference(rows, {{"re", measured(0.5205)}}, dev, true);
+  EXPECT_EQ(s.unexplained, 1);
+  EXPECT_EQ(s.deviations, 0);
+  EXPECT_TRUE(s.ok());
+  EXPECT_EQ(s.rows[0].verdict, Verdict::Unexplained);
+  EXPECT_NE(s.rows[0].note.find("cause not shown"), std::string::npos) << s.rows[0].note;
+  EXPECT_EQ(compare_with_reference(rows, {{"re", measured(0.523)}}, dev, true).failed, 1);  // left its band
+}
+
+TEST(ReferenceData, RowMeasuredUnderReadingsIsComparedAtTheChosenReadingAndKeepsThemAll) {
+  const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.002, "abs", "number", "Sec. 3", "r", ""}};
+  Measured m = measured(0.51);
+  m.readings = {{"p1_mean", 0.51}, {"nodal_mean", 0.501}};
+  // No reading chosen: the row's own value (outside); the nodal reading chosen: inside.
+  EXPECT_EQ(compare_with_reference(rows, {{"re", m}}, {}, true).failed, 1);
+  CheckSummary s = compare_with_reference(rows, {{"re", m}}, {}, true, "nodal_mean");
+  EXPECT_EQ(s.passed, 1);
+  EXPECT_EQ(s.rows[0].readings, "p1_mean=0.51;nodal_mean=0.501");
+  EXPECT_NE(s.rows[0].how.find("nodal_mean"), std::string::npos) << s.rows[0].how;
+}
+
+TEST(ReferenceData, ReadingsTableHasOneChosenReadingAtMostAndRejectsABadOne) {
+  const auto readings = load_readings(readings_path());
+  EXPECT_GE(readings.size(), 4u);
+  EXPECT_LE(std::count_if(readings.begin(), readings.end(), [](const Reading& r) { return r.chosen; }), 1);
+  const auto path = std::filesystem::temp_directory_path() / "rbcflow_bad_readings.csv";
+  std::ofstream(path) << "id,label,chosen,note\n" << "a,U one way,yes,\n" << "b,U another,yes,\n";
+  try {
+    load_readings(path.string());
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun) {
   const std::vector<ReferenceRow> rows = {{"re", "Re with a cell", 0.5, "", 0.01, "rel", "number", "Sec. 3", "r", ""}};
-  std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence"}}};
+  std::map<std::string, KnownDeviation> dev = {{"re", {"re", 0.52, 0.519, 0.521, "study", "cause", "evidence", "run x"}}};
   EXPECT_EQ(compare_with_reference(rows, {{"re", measured(0.52)}}, dev, false).failed, 1);
   dev["re"].applies = "any";
   EXPECT_EQ(compare_with_reference(rows, {{"re", measured(0.52)}}, dev, false).deviations, 1);
@@ -190,7 +253,7 @@ TEST(ReferenceData, DeviationRecordedAtTheStudysParametersDoesNotCoverAQuickRun)
 
 TEST(ReferenceData, ClaimRecordedAsNotHoldingIsADeviationAndAHoldingClaimPasses) {
   const std::vector<ReferenceRow> rows = {{"c", "a claim", std::nullopt, "", 0, "claim", "claim", "Fig. 5", "r", ""}};
-  const std::map<std::string, KnownDeviation> dev = {{"c", {"c", {}, {}, {}, "study", "cause", "evidence"}}};
+  const std::map<std::string, KnownDeviation> dev = {{"c", {"c", {}, {}, {}, "study", "cause", "evidence", "run x"}}};
   EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, false, ""}}}, dev, true).deviations, 1);
   EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, true, ""}}}, dev, true).passed, 1);
   EXPECT_EQ(compare_with_reference(rows, {{"c", {{}, false, ""}}}, {}, true).failed, 1);
@@ -259,8 +322,8 @@ TEST(RecordedUncertainty, BadRecordIsRejectedNamingTheLineAndEveryCommittedRecor
 
 TEST(ReferenceData, BadDeviationRecordIsRejectedNamingTheLine) {
   const auto path = std::filesystem::temp_directory_path() / "rbcflow_bad_deviation.csv";
-  std::ofstream(path) << "id,ours,band_low,band_high,applies,cause,evidence\n"
-                      << "re,0.52,0.519,0.5195,study,cause,evidence\n";  // ours outside its own band
+  std::ofstream(path) << "id,ours,band_low,band_high,applies,cause,evidence,shown_by\n"
+                      << "re,0.52,0.519,0.5195,study,cause,evidence,\n";  // ours outside its own band
   try {
     load_known_deviations(path.string());
     FAIL() << "expected an error";
@@ -287,11 +350,12 @@ TEST(RegressionRecord, CheckFailsOutsideTheBandOrWhenARowIsMissingAndEveryRecord
 TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperimentsWithoutResults) {
   const auto dir = std::filesystem::temp_directory_path() / "rbcflow_summary";
   std::filesystem::create_directories(dir / "single_cell_migration");
-  std::ofstream(dir / "single_cell_migration" / "check.csv") << "id,ours,verdict,note,u_num,u_parts,converged_in_h,how,tolerance\n"
-                                                              << "hct_s055,6.7733,PASS,,1e-05,,,,0.005 %\n"
-                                                              << "hct_s10,12.308,DEVIATION,cause,1e-05,,,,0.005 %\n"
-                                                              << "re_s07,0.524,UNRESOLVED,,0.003,,,,0.00025\n";
-  // A section from before issue 40 (old columns, old tolerances): its rows count as not run.
+  std::ofstream(dir / "single_cell_migration" / "check.csv") << "id,ours,verdict,note,u_num,u_parts,converged_in_h,how,tolerance,readings\n"
+                                                              << "hct_s055,6.7733,PASS,,1e-05,,,,0.005 %,\n"
+                                                              << "hct_s10,12.308,DEVIATION,cause,1e-05,,,,0.005 %,\n"
+                                                              << "re_s055,0.5239,UNEXPLAINED,believed,0.0002,,,,0.00025,p1_mean=0.5239;nodal_mean=0.51747\n"
+                                                              << "re_s07,0.524,UNRESOLVED,,0.003,,,,0.00025,\n";
+  // A section from an older checker (other columns, other verdicts): its rows count as not run.
   std::filesystem::create_directories(dir / "cell_free_layer");
   std::ofstream(dir / "cell_free_layer" / "check.csv") << "id,ours,verdict,note\r\n"
                                                         << "cfl_100,2.448,PASS,\r\n";
@@ -300,12 +364,16 @@ TEST(ReferenceData, StudySummaryListsEveryPublishedNumberWithNotRunForExperiment
   const std::string s = out.str();
   // 6 + 10 + 6 + 5 numbers checked, the 2 empirical estimates as context: the study's 29 numbers.
   EXPECT_NE(s.find("(29: 27 checked, 2 printed as context)"), std::string::npos) << s;
-  EXPECT_NE(s.find("1 PASS, 1 UNRESOLVED, 1 DEVIATION, 0 FAIL"), std::string::npos) << s;
-  // The rows our numerics cannot decide are listed in the head, ours with its u_num.
+  EXPECT_NE(s.find("1 PASS, 1 UNRESOLVED, 1 DEVIATION, 1 UNEXPLAINED, 0 FAIL"), std::string::npos) << s;
+  // The rows our numerics cannot decide, and those whose cause is not shown, are listed in the head.
   EXPECT_NE(s.find("Not reproduced because our numerics cannot decide (UNRESOLVED)"), std::string::npos) << s;
   EXPECT_NE(s.find("ours 0.524 ± 0.003, tolerance 0.00025"), std::string::npos) << s;
+  EXPECT_NE(s.find("Not reproduced, the cause not shown (UNEXPLAINED)"), std::string::npos) << s;
+  // The readings table: each reading's value, a tick within the tolerance, and the count.
+  EXPECT_NE(s.find("| 0.5239 | 0.51747 ✓ |"), std::string::npos) << s;
+  EXPECT_NE(s.find("p1_mean 0 of 1; nodal_mean 1 of 1;"), std::string::npos) << s;
   EXPECT_NE(s.find("| constriction | mean velocity in the narrow part | 3.33 cm/s | - |  | not run |"), std::string::npos) << s;
-  EXPECT_NE(s.find("2.448 (an older run, judged by the old tolerances: re-run) |  | not run |"), std::string::npos) << s;
+  EXPECT_NE(s.find("| cell_free_layer | cell-free layer, 100 cells"), std::string::npos) << s;
 }
 
 TEST(ReferenceData, MalformedTableIsRejectedNamingTheLine) {

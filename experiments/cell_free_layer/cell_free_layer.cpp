@@ -520,6 +520,9 @@ Results run(const Params& p) {
                   reported.c_str(), r.layer_lower * 1e6, r.layer_upper * 1e6, r.t.back() - kWindow, r.t.back(), r.layer_late * 1e6, 100 / r.hct);
     res.measured["cfl_" + tag] = with_uncertainty(p, res, name, reported, false, note);
     res.measured["re_" + tag] = with_uncertainty(p, res, name, reported, true, reported + ", mean over the last ms");
+    // The row under each reading of U (reference-data/readings.csv), over the same last ms.
+    res.measured["re_" + tag].readings = case_runner::u_readings((fs::path(p.out_dir) / reported / "series.csv").string(),
+                                                                 r.t.back() - kWindow, r.summary.reynolds / r.summary.mean_velocity);
   }
   {  // The runs the figures draw: each row's reported run (plot.gp).
     std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "common/case_runner.hpp"
 #include "io/csv.hpp"
 
 namespace rbc::channel_flow {
@@ -88,6 +89,10 @@ Results run(const Params& p) {
     res.measured[which + "_mean_velocity"] = {r.summary.mean_velocity * 100.0, {}, "", parts(100.0), conv, how};  // cm/s
     std::snprintf(conv, sizeof conv, "%.6g (h -> 0)", u0 * per);
     res.measured[which + "_reynolds"] = {r.summary.reynolds, {}, "", parts(per), conv, how};
+    // Both rows under each reading of U (reference-data/readings.csv), at the last sample.
+    const std::string series = (dir / "series.csv").string();
+    res.measured[which + "_mean_velocity"].readings = case_runner::u_readings(series, t.back(), 100.0);
+    res.measured[which + "_reynolds"].readings = case_runner::u_readings(series, t.back(), per);
     res.channels[which] = r;
   }
   return res;

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "io/csv.hpp"
+
 namespace rbc::case_runner {
 
 namespace fs = std::filesystem;
@@ -31,6 +33,20 @@ double window_mean(const std::vector<double>& t, const std::vector<double>& v, d
       ++n;
     }
   return n ? s / n : NAN;
+}
+
+std::vector<std::pair<std::string, double>> u_readings(const std::string& series, double from, double scale) {
+  std::ifstream in(series);
+  std::string header;
+  std::getline(in, header);
+  const std::string columns = "," + header + ",";
+  const std::vector<double> t = csv_column(series, "t");
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& [id, column] : {std::pair{"p1_mean", "mean_velocity"}, std::pair{"nodal_mean", "nodal_mean_velocity"},
+                                   std::pair{"plasma_flux", "plasma_flux_velocity"}, std::pair{"plasma_open", "plasma_open_velocity"}})
+    if (columns.find(std::string(",") + column + ",") != std::string::npos)
+      out.emplace_back(id, scale * window_mean(t, csv_column(series, column), from));
+  return out;
 }
 
 std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& ref, double L) {

@@ -52,6 +52,14 @@ inline const std::string kNotRun = "not run (--collect)";
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o);
 
 double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from);
+
+// A row's value under each reading of U, "the averaged velocity in the channel" (the study's
+// Section 2; reference-data/readings.csv), from a run's series.csv: the window_mean over t ≥ from of
+// each reading's column times `scale` (ρH/μ for a Reynolds number, 100 for cm/s): p1_mean
+// (mean_velocity), nodal_mean (nodal_mean_velocity) and, with cells, plasma_flux
+// (plasma_flux_velocity) and plasma_open (plasma_open_velocity). Columns a series lacks give no
+// reading (a cell-free run has no plasma readings).
+std::vector<std::pair<std::string, double>> u_readings(const std::string& series, double from, double scale);
 double symmetric_unit(std::mt19937& g);
 std::string num(double v);
 

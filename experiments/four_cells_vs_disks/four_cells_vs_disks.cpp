@@ -366,12 +366,6 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
     labels.push_back(dt_us);
   }
   if (seq.size() < 3 && !p.quick) m.u.missing = "the Δt sequence (" + std::to_string(seq.size()) + " of 3 consecutive levels)";
-  if (seq.size() >= 2) {
-    m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported);
-    std::string label = "dt";
-    for (std::size_t k = 0; k < labels.size(); ++k) label += (k ? "/" : " ") + labels[k];
-    m.u.dt->label = label + " us";
-  }
   // The ensemble: the study's start and the perturbed ones, at the scene's Δt.
   const std::string family = r.spec.disks ? "disks" : "kb1";
   std::vector<double> members;
@@ -385,6 +379,13 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
   if (members.size() < p.seeds.size() + 1 && !p.quick)
     m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the start ensemble (" + std::to_string(members.size()) + " of " +
                    std::to_string(p.seeds.size() + 1) + ")";
+  if (seq.size() >= 2) {
+    // The start ensemble's spread tells the Δt fit which level differences are noise.
+    m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported, m.u.ensemble.value_or(NAN));
+    std::string label = "dt";
+    for (std::size_t k = 0; k < labels.size(); ++k) label += (k ? "/" : " ") + labels[k];
+    m.u.dt->label = label + " us";
+  }
   // The window: the row's mean over the last ms, against the 4 ms before.
   if (!r.t.empty()) {
     std::vector<double> v(r.t.size());
@@ -589,7 +590,12 @@ Results run(const Params& p) {
     const std::string name = reported_case(res, base);
     if (!res.cases.count(name)) continue;
     if (!ok(name)) { res.measured[id] = {{}, false, "run failed: " + res.cases.at(name).failure}; continue; }
-    if (!p.quick) res.measured[id] = row_with_uncertainty(p, res, base, true, name + ", mean over the last ms");
+    if (p.quick) continue;
+    res.measured[id] = row_with_uncertainty(p, res, base, true, name + ", mean over the last ms");
+    // The row under each reading of U (reference-data/readings.csv), over the same last ms.
+    const CaseResult& r = res.cases.at(name);
+    res.measured[id].readings = case_runner::u_readings((fs::path(p.out_dir) / name / "series.csv").string(), r.t.back() - kWindow,
+                                                        r.summary.reynolds / r.summary.mean_velocity);
   }
   // The claims.
   // Each claim from the runs its rows report (the finest Δt of each case).

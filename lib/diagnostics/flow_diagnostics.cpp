@@ -8,8 +8,11 @@
 
 namespace rbc {
 
-double mean_velocity(const ChannelMesh& m, const VelocityField& u) {
-  // Rows in parallel (this runs every step), summed in one order whatever the threads.
+namespace {
+
+// Σ_i u1(x_i, y_j) for each row j = 0..M: rows in parallel (this runs every step), each summed in
+// one order whatever the threads.
+std::vector<double> row_sums(const ChannelMesh& m, const VelocityField& u) {
   std::vector<double> row(std::size_t(m.ny) + 1, 0.0);
 #pragma omp parallel for schedule(static) if (m.nx * m.ny >= 4096)
   for (int j = 0; j <= m.ny; ++j) {
@@ -18,10 +21,24 @@ double mean_velocity(const ChannelMesh& m, const VelocityField& u) {
     for (int i = 0; i < m.nx; ++i) r += u1[i];
     row[j] = r;
   }
-  double s = 0;
-  for (int j = 0; j <= m.ny; ++j) s += lumped_mass(m, j) * row[j];
-  return s / (m.length * m.height);
+  return row;
 }
+
+}  // namespace
+
+MeanVelocities mean_velocities(const ChannelMesh& m, const VelocityField& u) {
+  const std::vector<double> row = row_sums(m, u);
+  double p1 = 0, nodal = 0;
+  for (int j = 0; j <= m.ny; ++j) {
+    p1 += lumped_mass(m, j) * row[j];
+    nodal += row[j];
+  }
+  return {p1 / (m.length * m.height), nodal / (double(m.nx) * (m.ny + 1))};
+}
+
+double mean_velocity(const ChannelMesh& m, const VelocityField& u) { return mean_velocities(m, u).p1; }
+
+double nodal_mean_velocity(const ChannelMesh& m, const VelocityField& u) { return mean_velocities(m, u).nodal; }
 
 double reynolds_number(double mean_velocity, const FluidProperties& f, double height) {
   return f.density * mean_velocity * height / f.viscosity;

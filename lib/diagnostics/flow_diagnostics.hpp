@@ -10,6 +10,12 @@
 //   H_p(x_i) = H − Σ chords of the cells on that section (the open height),
 // and report the section averages  U_p = <Q_p>/H  (the plasma's flux per unit height) and
 // U_p,open = <Q_p / H_p>  (the plasma's mean velocity over its own height).
+//
+// A third reading of "the averaged velocity in the channel": the arithmetic mean of u1 over the
+// velocity nodes, the two wall rows (u = 0) included,
+//   U_n = (1/(N_x (M + 1))) Σ_{i, j=0..M} u1(x_i, y_j)      (M = H/h intervals across),
+// which on the uniform mesh is (M/(M+1)) U exactly, since the trapezoid rule gives the wall rows
+// weight 1/2 and they vanish; we compute it from the nodes, as a reader of the study would.
 #include <vector>
 
 #include "fluid/channel_flow.hpp"
@@ -18,6 +24,11 @@
 namespace rbc {
 
 double mean_velocity(const ChannelMesh& mesh, const VelocityField& u);
+double nodal_mean_velocity(const ChannelMesh& mesh, const VelocityField& u);  // U_n, m/s
+struct MeanVelocities {
+  double p1 = 0, nodal = 0;  // U and U_n, m/s
+};
+MeanVelocities mean_velocities(const ChannelMesh& mesh, const VelocityField& u);  // both in one pass
 double reynolds_number(double mean_velocity, const FluidProperties& fluid, double height);
 double max_speed(const VelocityField& u);  // max over nodes of |u|, m/s
 bool all_finite(const VelocityField& u);

@@ -72,6 +72,23 @@ PartVelocities part_velocities(const ObstacleGeometry& g, const VelocityField& u
   const ChannelMesh& m = g.mesh();
   const std::vector<double> q = section_fluxes(m, u);
   PartVelocities p;
+  // A node of a section is outside the passage when it lies in an obstacle's closed x-range and in
+  // its y-range off the face that meets the fluid (a block on a wall keeps its free face's row and
+  // drops the wall row beneath it), so each narrow section counts the passage and its two
+  // bounding rows, as each wide section counts H and the two wall rows.
+  auto outside_passage = [&](double x, double y) {
+    const double e = 1e-6 * m.h, L = m.length;
+    for (const Obstacle& o : g.obstacles()) {
+      const double s = x - L * std::floor((x - o.x[0]) / L);
+      if (o.x[1] - o.x[0] < L && s > o.x[1] + e) continue;
+      const bool free_below = o.y[0] > e, free_above = o.y[1] < m.height - e;
+      if (y > o.y[0] + e && y < o.y[1] - e) return true;
+      if (std::abs(y - o.y[0]) <= e && !free_below) return true;
+      if (std::abs(y - o.y[1]) <= e && !free_above) return true;
+    }
+    return false;
+  };
+  long wide_nodes = 0, narrow_nodes = 0;
   for (int i = 0; i < m.nx; ++i) {
     const double open = g.open_height(m.x(i));
     const bool narrow = open < m.height - 1e-9 * m.h;
@@ -79,7 +96,14 @@ PartVelocities part_velocities(const ObstacleGeometry& g, const VelocityField& u
     (narrow ? p.narrow_flux : p.wide_flux) += q[std::size_t(i)];
     (narrow ? p.narrow_sections : p.wide_sections) += 1;
     (narrow ? p.narrow_height : p.wide_height) = open;
+    for (int j = 0; j <= m.ny; ++j)
+      if (!outside_passage(m.x(i), j * m.h)) {
+        (narrow ? p.narrow_nodal : p.wide_nodal) += u.u1[m.v(i, j)];
+        ++(narrow ? narrow_nodes : wide_nodes);
+      }
   }
+  if (narrow_nodes) p.narrow_nodal /= double(narrow_nodes);
+  if (wide_nodes) p.wide_nodal /= double(wide_nodes);
   if (p.narrow_sections) {
     p.narrow /= p.narrow_sections;
     p.narrow_flux /= p.narrow_sections;

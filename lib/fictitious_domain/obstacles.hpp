@@ -59,9 +59,12 @@ class ObstacleGeometry {
 
 // Mean velocity of the narrow part (sections whose open height is below H) and of the wide part
 // (open height H): on each section x1 = x_i the flux Q_i = ∫ u1 dx2 (trapezoid over the column's
-// nodes, exact for P1) over the open height, averaged over the part's sections, m/s.
+// nodes, exact for P1) over the open height, averaged over the part's sections, m/s. And the
+// nodal reading (flow_diagnostics.hpp): the mean of u1 over the nodes of the part's sections in the
+// open passage, its two bounding rows (u = 0: a block's free face or a wall) included.
 struct PartVelocities {
   double wide = 0, narrow = 0;  // m/s
+  double wide_nodal = 0, narrow_nodal = 0;  // m/s, the arithmetic mean of u1 over the part's nodes in the open passage (its walls' rows included)
   double wide_flux = 0, narrow_flux = 0;  // m²/s, the mean flux through a section of each part
   double wide_height = 0, narrow_height = 0;  // m (the parts' open heights)
   int wide_sections = 0, narrow_sections = 0;

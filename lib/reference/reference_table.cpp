@@ -16,8 +16,9 @@ namespace {
 
 const std::vector<std::string> kColumns = {"id", "quantity", "value", "unit", "tolerance",
                                            "tolerance_type", "kind", "source", "reason", "apart_from"};
-const std::vector<std::string> kCheckColumns = {"id", "ours", "verdict", "note", "u_num", "u_parts", "converged_in_h", "how", "tolerance"};
-const std::vector<std::string> kDeviationColumns = {"id", "ours", "band_low", "band_high", "applies", "cause", "evidence"};
+const std::vector<std::string> kCheckColumns = {"id", "ours", "verdict", "note", "u_num", "u_parts", "converged_in_h", "how", "tolerance", "readings"};
+const std::vector<std::string> kDeviationColumns = {"id", "ours", "band_low", "band_high", "applies", "cause", "evidence", "shown_by"};
+const std::vector<std::string> kReadingColumns = {"id", "label", "chosen", "note"};
 
 std::string fmt(double v) {
   char b[32];
@@ -45,7 +46,31 @@ std::string fmt_uncertainty(double u) {
   return b;
 }
 
-bool bold(Verdict v) { return v == Verdict::Pass || v == Verdict::Fail || v == Verdict::Deviation || v == Verdict::Unresolved; }
+bool bold(Verdict v) {
+  return v == Verdict::Pass || v == Verdict::Fail || v == Verdict::Deviation || v == Verdict::Unexplained || v == Verdict::Unresolved;
+}
+
+// Measured::readings as one CSV cell, "id=value;id=value", at full precision.
+std::string format_readings(const std::vector<std::pair<std::string, double>>& readings) {
+  std::string s;
+  char b[48];
+  for (const auto& [id, v] : readings) {
+    std::snprintf(b, sizeof b, "%.9g", v);
+    s += (s.empty() ? "" : ";") + id + "=" + b;
+  }
+  return s;
+}
+
+std::vector<std::pair<std::string, double>> parse_readings(const std::string& cell) {
+  std::vector<std::pair<std::string, double>> out;
+  std::istringstream in(cell);
+  for (std::string item; std::getline(in, item, ';');) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos) continue;
+    out.emplace_back(item.substr(0, eq), std::strtod(item.c_str() + eq + 1, nullptr));
+  }
+  return out;
+}
 
 std::string md_cell(std::string s) {
   for (auto& c : s)
@@ -60,6 +85,7 @@ const char* verdict_name(Verdict v) {
     case Verdict::Pass: return "PASS";
     case Verdict::Unresolved: return "UNRESOLVED";
     case Verdict::Deviation: return "DEVIATION";
+    case Verdict::Unexplained: return "UNEXPLAINED";
     case Verdict::Fail: return "FAIL";
     case Verdict::NotRun: return "not run";
     case Verdict::Context: return "context";
@@ -73,6 +99,29 @@ std::string reference_table_path(const std::string& name) {
 
 std::string known_deviations_path(const std::string& name) {
   return std::string(RBCFLOW_SOURCE_DIR) + "/reference-data/deviations/" + name + ".csv";
+}
+
+std::string readings_path() { return std::string(RBCFLOW_SOURCE_DIR) + "/reference-data/readings.csv"; }
+
+std::vector<Reading> load_readings(const std::string& path) {
+  std::vector<Reading> out;
+  int chosen = 0;
+  for (const CsvRecord& rec : read_csv_table(path, kReadingColumns)) {
+    const auto& f = rec.fields;
+    if (f[2] != "yes" && !f[2].empty()) throw std::runtime_error(rec.where + ": column 'chosen' must be yes or empty, not '" + f[2] + "'");
+    if (f[0].empty() || f[1].empty()) throw std::runtime_error(rec.where + ": a reading needs its id and label");
+    for (const Reading& r : out)
+      if (r.id == f[0]) throw std::runtime_error(rec.where + ": reading '" + f[0] + "' is listed twice");
+    out.push_back({f[0], f[1], f[2] == "yes", f[3]});
+    if (out.back().chosen && ++chosen > 1) throw std::runtime_error(rec.where + ": only one reading can be chosen for the whole study");
+  }
+  return out;
+}
+
+std::string chosen_reading(const std::vector<Reading>& readings) {
+  for (const Reading& r : readings)
+    if (r.chosen) return r.id;
+  return "";
 }
 
 std::vector<ReferenceRow> load_reference_table(const std::string& path) {
@@ -105,7 +154,7 @@ std::map<std::string, KnownDeviation> load_known_deviations(const std::string& p
   if (!std::filesystem::exists(path)) return out;
   for (const CsvRecord& rec : read_csv_table(path, kDeviationColumns)) {
     const auto& f = rec.fields;
-    KnownDeviation d{f[0], std::nullopt, std::nullopt, std::nullopt, f[4], f[5], f[6]};
+    KnownDeviation d{f[0], std::nullopt, std::nullopt, std::nullopt, f[4], f[5], f[6], f[7]};
     const bool number = !f[1].empty() || !f[2].empty() || !f[3].empty();
     if (number) {
       d.ours = csv_number(rec, 1, "ours");
@@ -125,7 +174,8 @@ std::map<std::string, KnownDeviation> load_known_deviations(const std::string& p
 }
 
 CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
-                                    const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters) {
+                                    const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters,
+                                    const std::string& chosen) {
   CheckSummary s;
   for (const ReferenceRow& r : rows) {
     ComparedRow c;
@@ -143,7 +193,14 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     } else if (it == ours.end() || (!it->second.value && !it->second.holds)) {
       c.verdict = Verdict::NotRun;
     } else if (r.kind == "number") {
-      const double v = it->second.value.value_or(NAN);
+      double v = it->second.value.value_or(NAN);
+      c.readings = format_readings(it->second.readings);
+      bool read_as_chosen = false;
+      for (const auto& [id, value] : it->second.readings)
+        if (id == chosen) {
+          v = value;
+          read_as_chosen = true;
+        }
       const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
       // An incomplete u_num (evidence runs missing) cannot clear a row: it counts as not measured.
       const std::optional<double> u = it->second.u.missing.empty() ? it->second.u.total() : std::nullopt;
@@ -158,6 +215,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       c.u_parts = it->second.u.describe();
       c.converged_in_h = it->second.converged_in_h;
       c.how = it->second.how;
+      if (read_as_chosen) c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
       measured = true;
     } else {
       within = it->second.holds.value_or(false);
@@ -177,8 +235,8 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
         c.verdict = Verdict::Pass;
         if (known) c.note = "recorded as a deviation, but now within the tolerance: update reference-data/deviations";
       } else if (in_band) {
-        c.verdict = Verdict::Deviation;
-        c.note = known->cause;
+        c.verdict = known->shown_by.empty() ? Verdict::Unexplained : Verdict::Deviation;
+        c.note = known->shown_by.empty() ? "cause not shown; believed: " + known->cause : known->cause + " Shown by: " + known->shown_by + ".";
         if (known->low) c.note += " [ours expected in " + fmt(*known->low) + " .. " + fmt(*known->high) + "]";
       } else {
         c.verdict = Verdict::Fail;
@@ -194,6 +252,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       case Verdict::Pass: ++s.passed; break;
       case Verdict::Unresolved: ++s.unresolved; break;
       case Verdict::Deviation: ++s.deviations; break;
+      case Verdict::Unexplained: ++s.unexplained; break;
       case Verdict::Fail: ++s.failed; break;
       case Verdict::NotRun: ++s.not_run; break;
       case Verdict::Context: break;
@@ -233,12 +292,13 @@ void print_comparison(const CheckSummary& s, std::ostream& out, bool md) {
                     c.u_num.empty() ? "" : ("± " + c.u_num).c_str(), c.difference.c_str(), c.tolerance.c_str(), verdict_name(c.verdict));
       out << line;
       if (!c.note.empty()) out << "    " << (c.verdict == Verdict::Deviation ? "known deviation: " : "") << c.note << "\n";
+      if (!c.readings.empty()) out << "    readings: " << c.readings << "\n";
       if (!c.u_parts.empty()) out << "    u_num from: " << c.u_parts << "\n";
       if (!c.how.empty()) out << "    how run: " << c.how << "\n";
     }
   }
-  out << (md ? "\n" : "") << s.passed << " PASS, " << s.unresolved << " UNRESOLVED, " << s.deviations << " DEVIATION, " << s.failed << " FAIL, "
-      << s.not_run << " not run\n";
+  out << (md ? "\n" : "") << s.passed << " PASS, " << s.unresolved << " UNRESOLVED, " << s.deviations << " DEVIATION, " << s.unexplained
+      << " UNEXPLAINED, " << s.failed << " FAIL, " << s.not_run << " not run\n";
 }
 
 CheckSummary check_against_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
@@ -265,7 +325,7 @@ int run_reference_check(const std::string& table, const std::map<std::string, Me
     for (const auto& r : rows) found = found || r.id == id;
     if (!found) throw std::runtime_error(known_deviations_path(table) + ": id '" + id + "' is not a row of " + reference_table_path(table));
   }
-  const CheckSummary summary = compare_with_reference(rows, ours, deviations, at_study_parameters);
+  const CheckSummary summary = compare_with_reference(rows, ours, deviations, at_study_parameters, chosen_reading(load_readings(readings_path())));
   if (!at_study_parameters)
     out << "Quick parameters: only the rows that do not depend on them (geometry) are compared with the study here; the "
            "quick case's own numbers are checked against its regression record below.\n";
@@ -278,61 +338,109 @@ int run_reference_check(const std::string& table, const std::map<std::string, Me
   for (const ComparedRow& c : summary.rows)
     csv << csv_quote(c.row->id) << "," << csv_quote(c.ours) << "," << verdict_name(c.verdict) << "," << csv_quote(c.note) << ","
         << csv_quote(c.u_num) << "," << csv_quote(c.u_parts) << "," << csv_quote(c.converged_in_h) << "," << csv_quote(c.how) << ","
-        << csv_quote(c.tolerance) << "\n";
+        << csv_quote(c.tolerance) << "," << csv_quote(c.readings) << "\n";
   return summary.ok() ? 0 : 1;
 }
 
 void write_study_summary(const std::vector<std::string>& experiments, const std::string& results_dir, std::ostream& out) {
   int numbers = 0, context = 0, claims = 0;
   std::map<Verdict, int> count;
-  std::ostringstream table, unresolved;
+  std::ostringstream table, unresolved, unexplained;
+  // The readings table: every row measured under the readings, each reading's value and whether
+  // it lies within the study's tolerance, and how many rows each reading brings inside.
+  const std::vector<Reading> readings = load_readings(readings_path());
+  std::ostringstream readings_table;
+  std::map<std::string, int> inside, measured_under;
+  readings_table << "| experiment | quantity | study | tolerance |";
+  for (const Reading& r : readings) readings_table << " " << md_cell(r.id) << (r.chosen ? " (chosen)" : "") << " |";
+  readings_table << "\n|---|---|---|---|";
+  for (std::size_t k = 0; k < readings.size(); ++k) readings_table << "---|";
+  readings_table << "\n";
   table << "| experiment | quantity | study | ours ± u_num | tolerance | verdict | how run | source |\n|---|---|---|---|---|---|---|---|\n";
   for (const std::string& exp : experiments) {
-    struct Ours { std::string ours, verdict, u_num, how, tolerance; };
+    struct Ours { std::string ours, verdict, u_num, how, tolerance, readings; };
     std::map<std::string, Ours> ours;
     const std::string check = results_dir + "/" + exp + "/check.csv";
     std::string header;
     if (std::filesystem::exists(check)) std::getline(std::ifstream(check) >> std::ws, header);
     if (!header.empty() && header.back() == '\r') header.pop_back();  // CSV records end in CRLF
-    if (header == "id,ours,verdict,note") {
-      // A section written before u_num and the study's tolerances (issue 40): its verdicts were
-      // judged by the old rule, so they count as not run until the experiment runs again.
-      for (const CsvRecord& rec : read_csv_table(check, {"id", "ours", "verdict", "note"}))
-        ours[rec.fields[0]] = rec.fields[2] == "context" ? Ours{"-", "context", "", "", ""}
-                                                         : Ours{rec.fields[1] + " (an older run, judged by the old tolerances: re-run)", "not run", "", "", ""};
+    std::string expected;
+    for (const auto& c : kCheckColumns) expected += (expected.empty() ? "" : ",") + c;
+    if (!header.empty() && header != expected) {
+      // A section written by an older checker (other columns, other verdicts): its rows count as
+      // not run until the experiment runs again.
+      header.clear();
     } else if (!header.empty()) {
       for (const CsvRecord& rec : read_csv_table(check, kCheckColumns)) {
         const auto& f = rec.fields;
-        ours[f[0]] = {f[1], f[2], f[4], f[7], f[8]};
+        ours[f[0]] = {f[1], f[2], f[4], f[7], f[8], f[9]};
       }
     }
     for (const ReferenceRow& r : load_reference_table(reference_table_path(exp))) {
       (r.kind == "number" ? numbers : r.kind == "context" ? context : claims)++;
-      Ours o{"-", r.kind == "context" ? "context" : "not run", "", "", ""};
+      Ours o{"-", r.kind == "context" ? "context" : "not run", "", "", "", ""};
       if (ours.count(r.id)) o = ours.at(r.id);
       if (r.kind != "context")
-        for (Verdict v : {Verdict::Pass, Verdict::Unresolved, Verdict::Deviation, Verdict::Fail, Verdict::NotRun})
+        for (Verdict v : {Verdict::Pass, Verdict::Unresolved, Verdict::Deviation, Verdict::Unexplained, Verdict::Fail, Verdict::NotRun})
           if (o.verdict == verdict_name(v)) ++count[v];
       ComparedRow c;
       c.ours = o.ours;
       c.u_num = o.u_num;
       const std::string study = study_value(r);
-      const bool b = o.verdict == "PASS" || o.verdict == "DEVIATION" || o.verdict == "FAIL" || o.verdict == "UNRESOLVED";
+      const bool b = o.verdict != "not run" && o.verdict != "context";
       table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << md_cell(ours_with_u(c)) << " | " << o.tolerance
             << " | " << (b ? "**" : "") << o.verdict << (b ? "**" : "") << " | " << md_cell(o.how) << " | " << md_cell(r.source) << " |\n";
-      if (o.verdict == "UNRESOLVED")
-        unresolved << "- " << exp << ": " << md_cell(r.quantity) << " — study " << study << ", ours " << md_cell(ours_with_u(c).substr(0, ours_with_u(c).find(" ("))) << ", tolerance "
-                   << o.tolerance << "\n";
+      const std::string line = "- " + exp + ": " + md_cell(r.quantity) + " — study " + study + ", ours " +
+                               md_cell(ours_with_u(c).substr(0, ours_with_u(c).find(" ("))) + ", tolerance " + o.tolerance + "\n";
+      if (o.verdict == "UNRESOLVED") unresolved << line;
+      if (o.verdict == "UNEXPLAINED") unexplained << line;
+      const auto values = parse_readings(o.readings);
+      if (!values.empty() && r.value) {
+        const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
+        readings_table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << o.tolerance << " |";
+        for (const Reading& reading : readings) {
+          std::string cell = "—";
+          for (const auto& [id, v] : values)
+            if (id == reading.id) {
+              char b[48];
+              std::snprintf(b, sizeof b, "%.5g", v);
+              const bool in = std::abs(v - *r.value) <= allowed;
+              cell = std::string(b) + (in ? " ✓" : "");
+              ++measured_under[reading.id];
+              if (in) ++inside[reading.id];
+            }
+          readings_table << " " << cell << " |";
+        }
+        readings_table << "\n";
+      }
     }
   }
   out << "The study's published numbers (" << numbers + context << ": " << numbers << " checked, " << context
       << " printed as context) and claims (" << claims << "): " << count[Verdict::Pass] << " PASS, " << count[Verdict::Unresolved]
-      << " UNRESOLVED, " << count[Verdict::Deviation] << " DEVIATION, " << count[Verdict::Fail] << " FAIL, " << count[Verdict::NotRun]
+      << " UNRESOLVED, " << count[Verdict::Deviation] << " DEVIATION, " << count[Verdict::Unexplained] << " UNEXPLAINED, "
+      << count[Verdict::Fail] << " FAIL, " << count[Verdict::NotRun]
       << " not run. PASS: within the study's tolerance, with our numerical uncertainty u_num no larger than it. UNRESOLVED: u_num "
          "is larger than the tolerance (or not measured) and ours ± u_num reaches the window, so our numerics cannot decide; it "
-         "counts as not reproduced. A DEVIATION is a recorded, explained difference (its cause is beside the row in the "
-         "experiment's section); FAIL is a difference nobody explained, or a recorded one that moved.\n\n";
+         "counts as not reproduced. DEVIATION: outside the tolerance, with its cause shown by a named run or exact arithmetic "
+         "(beside the row in the experiment's section). UNEXPLAINED: outside the tolerance, the cause not shown (what we believe "
+         "is beside the row); it counts as not reproduced. FAIL: a difference nobody recorded, or a recorded one that moved.\n\n";
   if (count[Verdict::Unresolved] > 0) out << "Not reproduced because our numerics cannot decide (UNRESOLVED):\n\n" << unresolved.str() << "\n";
+  if (count[Verdict::Unexplained] > 0) out << "Not reproduced, the cause not shown (UNEXPLAINED):\n\n" << unexplained.str() << "\n";
+  if (!measured_under.empty()) {
+    out << "### Readings of \"the averaged velocity in the channel\"\n\n"
+           "The study defines Re = ρUH/μ with U \"the averaged velocity in the channel\" (Section 2). Each reading below is "
+           "measured from the computed field on every row it touches (reference-data/readings.csv says what each measures); "
+           "✓: within the study's tolerance.\n\n"
+        << readings_table.str() << "\nRows each reading brings inside the study's tolerance:";
+    for (const Reading& reading : readings)
+      if (measured_under.count(reading.id))
+        out << " " << reading.id << " " << inside[reading.id] << " of " << measured_under[reading.id] << ";";
+    out << "\n\n";
+    for (const Reading& reading : readings)
+      out << "- `" << reading.id << "`" << (reading.chosen ? " (chosen for the whole study)" : "") << ": " << md_cell(reading.label)
+          << (reading.note.empty() ? "" : ". " + md_cell(reading.note)) << "\n";
+    out << "\n";
+  }
   out << table.str() << "\n";
 }
 

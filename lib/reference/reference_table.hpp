@@ -9,13 +9,23 @@
 //              numerics fine enough to say so;
 //   UNRESOLVED u > T (or u not measured) and |E| ≤ T + u: our numerics cannot decide. Counts as
 //              not reproduced; never makes --check fail;
-//   DEVIATION  outside it (by more than u when u > T), and recorded as a known deviation whose band holds our value: the
-//              band is where our own value is expected from its measured h/Δt error or ensemble
-//              spread, not from the distance to the study;
+//   DEVIATION  outside it (by more than u when u > T), recorded with a band that holds our value,
+//              and its cause SHOWN: a named run with the cause removed lands on the study's value
+//              within T, or exact arithmetic gives the difference (column shown_by of the record);
+//   UNEXPLAINED outside it, recorded with a band that holds our value, but its cause not shown
+//              (shown_by empty): what we believe is written beside it; counts as not reproduced;
 //   FAIL       outside the tolerance and not recorded, or recorded but outside the recorded band
 //              (the code changed the result).
-// Only FAIL makes --check exit 1. A DEVIATION never hides the distance: study, ours and
-// ours − study are printed on every row, the cause beside it.
+// The band is where our own value is expected from its measured h/Δt error or ensemble spread,
+// not from the distance to the study. Only FAIL makes --check exit 1. A DEVIATION or UNEXPLAINED
+// row never hides the distance: study, ours and ours − study are printed on every row, the cause
+// (shown or believed) beside it.
+//
+// Readings. Where the study's words allow several definitions of a measured quantity (U in
+// Re = ρUH/μ is "the averaged velocity in the channel", Section 2), an experiment measures the row
+// under each reading from the field (Measured::readings), the report shows them side by side, and
+// the one reading chosen for the whole study (reference-data/readings.csv, column chosen) is the
+// row's value.
 #include <map>
 #include <optional>
 #include <ostream>
@@ -55,6 +65,9 @@ struct KnownDeviation {
   std::optional<double> ours, low, high;
   std::string applies;  // "study" or "any"
   std::string cause, evidence;
+  // The run (case, scene and --set, or the report section holding it) or the exact arithmetic
+  // that shows the cause; empty: the cause is believed, not shown, and the row is UNEXPLAINED.
+  std::string shown_by = {};
 };
 
 // Reads a deviations table (an absent file is an empty table); throws std::runtime_error naming
@@ -72,10 +85,28 @@ struct Measured {
   NumericalUncertainty u = {};  // u_num's parts (numbers)
   std::string converged_in_h = {};  // what a finer mesh gives (empty: no h refinement)
   std::string how = {};             // how the row was run: coupling, Δt, pressure form, ...
+  // The row's value under each reading of the study's words (reading id, value in the row's unit),
+  // each measured from the field; empty for rows no reading touches.
+  std::vector<std::pair<std::string, double>> readings = {};
 };
 
-enum class Verdict { Pass, Unresolved, Deviation, Fail, NotRun, Context };
-const char* verdict_name(Verdict v);  // "PASS", "UNRESOLVED", "DEVIATION", "FAIL", "not run", "context"
+// One reading of an ambiguous sentence of the study (reference-data/readings.csv): id, what it
+// measures, and whether it is the one chosen for the whole study.
+struct Reading {
+  std::string id, label;
+  bool chosen = false;
+  std::string note;
+};
+// Reads reference-data/readings.csv (or path); at most one reading chosen; throws
+// std::runtime_error naming the file, line and column on bad input.
+std::vector<Reading> load_readings(const std::string& path);
+std::string readings_path();
+// The id of the chosen reading ("" when none is).
+std::string chosen_reading(const std::vector<Reading>& readings);
+
+enum class Verdict { Pass, Unresolved, Deviation, Unexplained, Fail, NotRun, Context };
+// "PASS", "UNRESOLVED", "DEVIATION", "UNEXPLAINED", "FAIL", "not run", "context"
+const char* verdict_name(Verdict v);
 
 // One row of a comparison, as printed and as written to check.csv for the report's summary.
 struct ComparedRow {
@@ -83,18 +114,21 @@ struct ComparedRow {
   Verdict verdict = Verdict::NotRun;
   std::string ours, difference, tolerance, study, note;  // formatted; note: the deviation's cause or why it failed
   std::string u_num, u_parts, converged_in_h, how;          // formatted u_num, its parts, the h column, how run
+  std::string readings;  // "id=value;id=value" (Measured::readings, full precision)
 };
 
 struct CheckSummary {
-  int passed = 0, unresolved = 0, deviations = 0, failed = 0, not_run = 0;
+  int passed = 0, unresolved = 0, deviations = 0, unexplained = 0, failed = 0, not_run = 0;
   std::vector<ComparedRow> rows;
   bool ok() const { return failed == 0; }
 };
 
 // Compares; at_study_parameters = false (a quick run) uses only the deviations recorded for
-// "any" parameters.
+// "any" parameters. A row measured under the reading `chosen` (an id of Measured::readings) is
+// compared at that reading's value.
 CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
-                                    const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters);
+                                    const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters,
+                                    const std::string& chosen = "");
 
 // Prints a comparison (plain text, or Markdown when markdown = true) ending with the counts of
 // the three verdicts; rows the run did not measure are "not run" and are not failures.

@@ -120,6 +120,7 @@ struct RunState {
   double u_sum = 0;                                   // mean-velocity average in progress
   std::int64_t u_count = 0;
   double last_mean = 0;
+  double nodal_sum = 0, last_nodal = 0;               // the same for the nodal mean U_n
   std::int64_t next_snapshot = 0, vtk_count = 0, next_frame = 0;
   double wall_seconds = 0;  // spent before this session
 
@@ -129,6 +130,8 @@ struct RunState {
     w.put(u_sum);
     w.put(u_count);
     w.put(last_mean);
+    w.put(nodal_sum);
+    w.put(last_nodal);
     w.put(next_snapshot);
     w.put(vtk_count);
     w.put(frame_bytes);
@@ -142,6 +145,8 @@ struct RunState {
     s.u_sum = r.get_double();
     s.u_count = r.get_int();
     s.last_mean = r.get_double();
+    s.nodal_sum = r.get_double();
+    s.last_nodal = r.get_double();
     s.next_snapshot = r.get_int();
     s.vtk_count = r.get_int();
     s.frame_bytes = r.get_int();
@@ -285,19 +290,25 @@ class RunOutputs {
     next_frame_ = int(resumed.next_frame);
     if (scene.vtk) vtk_.emplace(out / "vtk", sim, int(resumed.vtk_count));
     u_sum_ = resumed.u_sum;
+    nodal_sum_ = resumed.nodal_sum;
     u_count_ = long(resumed.u_count);
-    last_mean_ = fresh ? mean_velocity(sim.flow().mesh(), sim.flow().velocity()) : resumed.last_mean;
+    const MeanVelocities now = mean_velocities(sim.flow().mesh(), sim.flow().velocity());
+    last_mean_ = fresh ? now.p1 : resumed.last_mean;
+    last_nodal_ = fresh ? now.nodal : resumed.last_nodal;
     if (fresh) write_header();
   }
   // After every step: the mean velocity's running average.
   void after_step() {
-    u_sum_ += mean_velocity(sim_.flow().mesh(), sim_.flow().velocity());
+    const MeanVelocities now = mean_velocities(sim_.flow().mesh(), sim_.flow().velocity());
+    u_sum_ += now.p1;
+    nodal_sum_ += now.nodal;
     ++u_count_;
   }
   void sample();
   void snapshots_due();
   void frames_due();
   double last_mean() const { return last_mean_; }
+  double last_nodal() const { return last_nodal_; }
   RunState state(double wall_seconds) {
     series_.flush();
     if (snapshots_.is_open()) snapshots_.flush();
@@ -308,6 +319,8 @@ class RunOutputs {
     st.u_sum = u_sum_;
     st.u_count = u_count_;
     st.last_mean = last_mean_;
+    st.nodal_sum = nodal_sum_;
+    st.last_nodal = last_nodal_;
     st.next_snapshot = std::int64_t(next_snapshot_);
     st.vtk_count = vtk_ ? vtk_->written() : 0;
     st.frame_bytes = frames_.is_open() ? std::int64_t(frames_.tellp()) : 0;
@@ -329,14 +342,15 @@ class RunOutputs {
   // The mean velocity of a sample is its average over the steps since the previous sample
   // (the instantaneous value at t = 0).
   double u_sum_ = 0, last_mean_ = 0;
+  double nodal_sum_ = 0, last_nodal_ = 0;  // the nodal mean U_n, averaged the same way
   long u_count_ = 0;
   bool flux_warned_ = false;
 };
 
 void RunOutputs::write_header() {
-  series_ << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations";
+  series_ << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations,nodal_mean_velocity";
   if (!sim_.cells().empty()) series_ << ",plasma_flux_velocity,plasma_open_velocity,wall_gap_lower,wall_gap_upper";
-  if (sim_.obstacles()) series_ << ",wide_velocity,narrow_velocity,wide_flux,narrow_flux,uzawa_iterations";
+  if (sim_.obstacles()) series_ << ",wide_velocity,narrow_velocity,wide_flux,narrow_flux,uzawa_iterations,wide_nodal_velocity,narrow_nodal_velocity";
   for (std::size_t k = 0; k < sim_.cells().size(); ++k)
     for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series_ << ",cell" << k << "_" << q;
   for (std::size_t k = 0; k < sim_.disks().size(); ++k)
@@ -347,12 +361,16 @@ void RunOutputs::write_header() {
 void RunOutputs::sample() {
   const ChannelFlow& flow = sim_.flow();
   const auto& cells = sim_.cells();
-  if (u_count_ > 0) last_mean_ = u_sum_ / u_count_;
+  if (u_count_ > 0) {
+    last_mean_ = u_sum_ / u_count_;
+    last_nodal_ = nodal_sum_ / u_count_;
+  }
   u_sum_ = 0;
+  nodal_sum_ = 0;
   u_count_ = 0;
   series_ << sim_.time() << "," << last_mean_ << "," << reynolds_number(last_mean_, scene_.fluid, scene_.height) << ","
           << hematocrit_percent(cells, fluid_area_) << "," << max_speed(flow.velocity()) << "," << sim_.last_cg_iterations() << ","
-          << sim_.last_coupling_iterations();
+          << sim_.last_coupling_iterations() << "," << last_nodal_;
   if (!cells.empty()) {  // the plasma alone, at the sample's instant (flow_diagnostics.hpp)
     std::vector<const Points*> membranes;
     for (const Cell& c : cells) membranes.push_back(&c.nodes);
@@ -362,7 +380,8 @@ void RunOutputs::sample() {
   }
   if (const ObstacleConstraint* ob = sim_.obstacles()) {  // flux over open height, and flux, per part (obstacles.hpp)
     const PartVelocities pv = part_velocities(ob->geometry(), flow.velocity());
-    series_ << "," << pv.wide << "," << pv.narrow << "," << pv.wide_flux << "," << pv.narrow_flux << "," << ob->last().iterations;
+    series_ << "," << pv.wide << "," << pv.narrow << "," << pv.wide_flux << "," << pv.narrow_flux << "," << ob->last().iterations << ","
+            << pv.wide_nodal << "," << pv.narrow_nodal;
     // From rest, u^{n+1} is far from divergence-free while the flow starts (step 4 does not
     // project): the check waits for the viscous time of the narrow part's half-height.
     const double larger = std::max(std::abs(pv.wide_flux), std::abs(pv.narrow_flux));
@@ -434,6 +453,7 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
   j["mean_velocity"] = s.mean_velocity;
   j["mean_velocity_averaging"] = "time average over the last sample interval (output.every)";
   j["reynolds"] = s.reynolds;
+  j["nodal_mean_velocity"] = s.nodal_mean_velocity;
   j["hematocrit"] = s.hematocrit;
   j["cells"] = nlohmann::json::array();
   for (const CellState& c : s.cells)
@@ -574,6 +594,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   s.t_end = sim.time();
   s.wall_seconds = resumed.wall_seconds + progress.elapsed_seconds();
   s.mean_velocity = outputs.last_mean();
+  s.nodal_mean_velocity = outputs.last_nodal();
   s.reynolds = reynolds_number(s.mean_velocity, scene.fluid, scene.height);
   s.max_speed = max_speed(sim.flow().velocity());
   s.hematocrit = hematocrit_percent(sim.cells(), scene.fluid_area());
@@ -608,6 +629,7 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
     s.wall_seconds = j.at("wall_seconds");
     s.mean_velocity = j.at("mean_velocity");
     s.reynolds = j.at("reynolds");
+    s.nodal_mean_velocity = j.at("nodal_mean_velocity");
     s.hematocrit = j.at("hematocrit");
     s.max_speed = j.at("max_speed");
     for (const auto& c : j.at("cells")) {

@@ -1,8 +1,10 @@
 #pragma once
 // Runs a scene to its end and writes the outputs of SPEC section 8 into the output folder:
-//   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, hematocrit, cells, disks, …
+//   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, nodal_mean_velocity, hematocrit, cells, disks, …
 //   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
-//                 coupling_iterations, with cells plasma_flux_velocity and plasma_open_velocity (the
+//                 coupling_iterations, nodal_mean_velocity (U_n, averaged over the sample interval as
+//                 mean_velocity is), with obstacles the parts' wide/narrow velocities (flux over the open
+//                 height, and the nodal mean over the open passage), with cells plasma_flux_velocity and plasma_open_velocity (the
 //                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp), then per cell k: cellk_x, cellk_y, cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
 //   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
 //   frames.dat    the movie's frames when [output] frames > 0 (scene/movie_frames.hpp)
@@ -46,6 +48,7 @@ struct RunSummary {
   long steps = 0;
   double t_end = 0, wall_seconds = 0;
   double mean_velocity = 0, reynolds = 0, max_speed = 0;  // mean velocity: averaged over the last sample interval
+  double nodal_mean_velocity = 0;  // m/s, the nodal mean U_n (diagnostics/flow_diagnostics.hpp), averaged alike
   double hematocrit = 0;                                  // %
   std::vector<CellState> cells;
 };
