@@ -284,7 +284,7 @@ TEST(RecordedUncertainty, EvidenceRunsWriteTheCompleteRowsAndTheStudysRunsTakeTh
   write_measured_uncertainty(evidence, path);
   auto record = load_recorded_uncertainty(path);
   ASSERT_EQ(record.size(), 2u);
-  EXPECT_NEAR(record.at("a").u_num, 0.13, 1e-12);
+  EXPECT_NEAR(record.at("a").u_num(), 0.13, 1e-12);
   EXPECT_EQ(record.at("a").converged_in_h, "h -> 0 gives 9.1");
   record.at("a").commit = "abc1234";
   // make reproduce: the study's run alone (u incomplete) takes the record; a row measured in full
@@ -303,12 +303,18 @@ TEST(RecordedUncertainty, EvidenceRunsWriteTheCompleteRowsAndTheStudysRunsTakeTh
 
 TEST(RecordedUncertainty, BadRecordIsRejectedNamingTheLineAndEveryCommittedRecordNamesRowsOfItsTable) {
   const auto path = (std::filesystem::temp_directory_path() / "rbcflow_bad_uncertainty.csv").string();
-  std::ofstream(path) << "id,u_num,u_parts,converged_in_h,commit,code\n" << "a,-0.1,,,,\n";
-  try {
-    load_recorded_uncertainty(path);
-    FAIL() << "expected an error";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+  const std::string header = "id,dt_values,dt_ratio,dt_formal,dt_reported,dt_noise,dt_label,ensemble,members,window,other,other_value,converged_in_h,source,commit,code\n";
+  for (const char* bad : {"a,,,,,,,-0.1,4,,,,,,c,k\n",       // a negative spread
+                          "a,9.1 x,2,1,0,,dt,,,,,,,,c,k\n",  // a level that is no number
+                          "a,9.1,2,1,0,,dt,,,,,,,,c,k\n",    // one level: no Δt part
+                          "a,,,,,,,,,,,,,,c,k\n"}) {         // no part at all
+    std::ofstream(path) << header << bad;
+    try {
+      load_recorded_uncertainty(path);
+      FAIL() << "expected an error for " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(":2:"), std::string::npos) << e.what();
+    }
   }
   for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction", "disk_validation"}) {
     const auto rows = load_reference_table(reference_table_path(name));
@@ -318,6 +324,29 @@ TEST(RecordedUncertainty, BadRecordIsRejectedNamingTheLineAndEveryCommittedRecor
       EXPECT_FALSE(r.commit.empty()) << recorded_uncertainty_path(name) << ": '" << id << "' names no commit";
     }
   }
+}
+
+TEST(RecordedUncertainty, ARecordKeepsTheLevelsAndItsUNumIsTodaysEstimateOfThem) {
+  // make evidence writes the Δt levels, the spreads and the named part; read back, the Δt part is
+  // estimated again (the same U as measured) and the total is at 95 % (2 s, 2 u_w).
+  Measured m = measured(9.156);
+  m.u.other_value.reset();
+  m.u.ensemble = 0.023;
+  m.u.members = 4;
+  m.u.window = 0.001;
+  m.u.dt = grid_convergence_index({9.115, 9.156, 9.199}, 2.0, 1.0, 1, 0.023);
+  m.u.dt->label = "dt 0.75/1.5/3 us";
+  const auto path = (std::filesystem::temp_directory_path() / "rbcflow_levels.csv").string();
+  write_measured_uncertainty({{"d", m}}, path);
+  const auto record = load_recorded_uncertainty(path);
+  ASSERT_EQ(record.size(), 1u);
+  const NumericalUncertainty& u = record.at("d").parts;
+  ASSERT_TRUE(u.dt);
+  EXPECT_EQ(u.dt->values, (std::vector<double>{9.115, 9.156, 9.199}));
+  EXPECT_EQ(u.dt->reported, 1);
+  EXPECT_NEAR(u.dt->u, m.u.dt->u, 1e-12);
+  EXPECT_EQ(u.dt->label, "dt 0.75/1.5/3 us");
+  EXPECT_NEAR(record.at("d").u_num(), std::sqrt(std::pow(m.u.dt->u, 2) + std::pow(2 * 0.023, 2) + std::pow(2 * 0.001, 2)), 1e-12);
 }
 
 TEST(ReferenceData, BadDeviationRecordIsRejectedNamingTheLine) {

@@ -318,8 +318,10 @@ Results run(const Params& p) {
       Measured& m = res.measured[id];
       m.u.window = window_noise(t, v, span, 5) * scale;
       if (dt_rel) {
-        RefinementUncertainty d = *dt_rel;
+        RefinementUncertainty d = *dt_rel;  // in the row's unit
         d.u *= *m.value;
+        d.extrapolated *= *m.value;
+        for (double& v : d.values) v *= *m.value;
         m.u.dt = d;
       } else {
         m.u.missing = "the convergence runs' Δt sequence";

@@ -150,6 +150,8 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& f, doubl
   u.observed_order = NAN;
   u.order_used = q;
   u.formal_order = q;
+  u.values = f;
+  u.ratio = r;
   if (!std::all_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); })) {  // no estimate (as the GCI gave)
     u.u = u.extrapolated = u.safety_factor = NAN;
     return u;
@@ -352,6 +354,7 @@ std::string NumericalUncertainty::describe(int digits) const {
     if (other_value && std::isfinite(*other_value)) o.append(" ").append(g(*other_value, digits));
     part(o);
   }
+  if (!provenance.empty()) part(provenance);
   return s;
 }
 

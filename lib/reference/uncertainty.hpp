@@ -79,6 +79,8 @@ struct RefinementUncertainty {
   double data_range = 0;        // Δ_φ
   double noise = NAN;           // s as given (NaN: not known)
   double formal_order = 0;      // q as given
+  std::vector<double> values;   // φ_k as given, finest first (what a record keeps to estimate U again)
+  double ratio = 0;             // r as given
   bool noise_dominated = false; // no convergence observed: noise, or σ* ≥ Δ_φ
   std::string label;            // the levels, set by the caller: "Δt 1.5/3/6 us"
   // e.g. "Δt 1.5/3/6 us: p = 0.93, fit σ 0.004, U 0.042 (Fs 1.25)",
@@ -112,6 +114,7 @@ struct NumericalUncertainty {
   std::optional<double> other_value;  // taken as given
   std::string missing;             // parts whose evidence runs did not finish: u_num is incomplete
                                    // and the verdict treats it as not measured
+  std::string provenance;          // where parts read back from a record were measured (commit, source)
   // u_num at 95 %: sqrt(U_Δt² + (2 s)² + (2 u_w)² + u_o²) over the parts measured; empty when
   // none is.
   std::optional<double> total() const;
