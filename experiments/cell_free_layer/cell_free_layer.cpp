@@ -456,12 +456,6 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
   auto value = [&](const CaseResult& c) { return re ? c.re : c.layer * 1e6; };
   const CaseResult& r = res.cases.at(reported);
   Measured m{value(r), {}, note};
-  if (ok(base) && ok(base + "_dt1.5us")) {
-    m.u.dt = grid_convergence_index({value(res.cases.at(base + "_dt1.5us")), value(res.cases.at(base))}, 2.0, 1.0);
-    m.u.dt->label = "dt 1.5/3 us";
-  } else {
-    m.u.missing = "the Δt-halved run";
-  }
   std::vector<double> members;
   if (ok(base)) members.push_back(value(res.cases.at(base)));
   for (unsigned s : p.seeds)
@@ -473,6 +467,14 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
   if (members.size() < p.seeds.size() + 1)
     m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the arrangements (" + std::to_string(members.size()) + " of " +
                    std::to_string(p.seeds.size() + 1) + ")";
+  if (ok(base) && ok(base + "_dt1.5us")) {
+    // The arrangements' spread tells the Δt pair whether its difference is noise.
+    m.u.dt = grid_convergence_index({value(res.cases.at(base + "_dt1.5us")), value(res.cases.at(base))}, 2.0, 1.0, 0,
+                                    m.u.ensemble.value_or(NAN));
+    m.u.dt->label = "dt 1.5/3 us";
+  } else {
+    m.u.missing = "the Δt-halved run";
+  }
   std::vector<double> v(r.t.size());
   for (std::size_t k = 0; k < r.t.size(); ++k) v[k] = re ? r.reynolds[k] : 0.5 * (r.gap_lower[k] + r.gap_upper[k]) * 1e6;
   m.u.window = window_noise(r.t, v, kWindow, 5);

@@ -44,8 +44,10 @@ std::vector<std::pair<std::string, double>> u_readings(const std::string& series
   std::vector<std::pair<std::string, double>> out;
   for (const auto& [id, column] : {std::pair{"p1_mean", "mean_velocity"}, std::pair{"nodal_mean", "nodal_mean_velocity"},
                                    std::pair{"plasma_flux", "plasma_flux_velocity"}, std::pair{"plasma_open", "plasma_open_velocity"}})
-    if (columns.find(std::string(",") + column + ",") != std::string::npos)
-      out.emplace_back(id, scale * window_mean(t, csv_column(series, column), from));
+    if (columns.find(std::string(",") + column + ",") != std::string::npos) {
+      const double v = scale * window_mean(t, csv_column(series, column), from);
+      if (std::isfinite(v)) out.emplace_back(id, v);  // an empty window measures nothing
+    }
   return out;
 }
 

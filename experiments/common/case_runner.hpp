@@ -57,8 +57,8 @@ double window_mean(const std::vector<double>& t, const std::vector<double>& v, d
 // Section 2; reference-data/readings.csv), from a run's series.csv: the window_mean over t ≥ from of
 // each reading's column times `scale` (ρH/μ for a Reynolds number, 100 for cm/s): p1_mean
 // (mean_velocity), nodal_mean (nodal_mean_velocity) and, with cells, plasma_flux
-// (plasma_flux_velocity) and plasma_open (plasma_open_velocity). Columns a series lacks give no
-// reading (a cell-free run has no plasma readings).
+// (plasma_flux_velocity) and plasma_open (plasma_open_velocity). Columns a series lacks, and
+// windows with no sample, give no reading (a cell-free run has no plasma readings).
 std::vector<std::pair<std::string, double>> u_readings(const std::string& series, double from, double scale);
 double symmetric_unit(std::mt19937& g);
 std::string num(double v);

@@ -272,10 +272,16 @@ Results run(const Params& p) {
     // its bounding rows. The plasma readings are not measured part by part.
     const double u_wide_nodal = case_runner::window_mean(t, csv_column(series, "wide_nodal_velocity"), res.window_start),
                  u_narrow_nodal = case_runner::window_mean(t, csv_column(series, "narrow_nodal_velocity"), res.window_start);
-    res.measured["u_wide"].readings = {{"p1_mean", res.u_wide * 100}, {"nodal_mean", u_wide_nodal * 100}};
-    res.measured["u_narrow"].readings = {{"p1_mean", res.u_narrow * 100}, {"nodal_mean", u_narrow_nodal * 100}};
-    res.measured["re_wide"].readings = {{"p1_mean", res.re_wide}, {"nodal_mean", rho * u_wide_nodal * H / mu}};
-    res.measured["re_narrow"].readings = {{"p1_mean", res.re_narrow}, {"nodal_mean", rho * u_narrow_nodal * Hn / mu}};
+    auto readings = [](double p1, double nodal) {
+      std::vector<std::pair<std::string, double>> r;
+      for (const auto& [id, v] : {std::pair{"p1_mean", p1}, std::pair{"nodal_mean", nodal}})
+        if (std::isfinite(v)) r.emplace_back(id, v);
+      return r;
+    };
+    res.measured["u_wide"].readings = readings(res.u_wide * 100, u_wide_nodal * 100);
+    res.measured["u_narrow"].readings = readings(res.u_narrow * 100, u_narrow_nodal * 100);
+    res.measured["re_wide"].readings = readings(res.re_wide, rho * u_wide_nodal * H / mu);
+    res.measured["re_narrow"].readings = readings(res.re_narrow, rho * u_narrow_nodal * Hn / mu);
   }
   {
     std::ostringstream s;
@@ -309,8 +315,9 @@ Results run(const Params& p) {
       std::vector<double> seq;
       for (const auto& [dt, u] : at) seq.push_back(u / at.rbegin()->second);  // finest first, relative to the row's Δt
       if (seq.size() >= 2) {
-        if (seq.size() > 3) seq.resize(3);
-        dt_rel = grid_convergence_index(seq, 2.0, 1.0);
+        // The row's own Δt is the coarsest level: its U, from it and the (at most) two finer ones.
+        if (seq.size() > 3) seq.erase(seq.begin(), seq.end() - 3);
+        dt_rel = grid_convergence_index(seq, 2.0, 1.0, int(seq.size()) - 1);
         dt_rel->label = "dt (relative, at 1 ms, from the convergence runs)";
       }
     }
@@ -321,7 +328,7 @@ Results run(const Params& p) {
         RefinementUncertainty d = *dt_rel;  // in the row's unit
         d.u *= *m.value;
         d.extrapolated *= *m.value;
-        for (double& v : d.values) v *= *m.value;
+        for (double& level : d.values) level *= *m.value;
         m.u.dt = d;
       } else {
         m.u.missing = "the convergence runs' Δt sequence";

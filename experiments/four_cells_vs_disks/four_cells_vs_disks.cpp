@@ -631,7 +631,7 @@ Results run(const Params& p) {
     }
     gap = std::abs(study_kb1000 - study_disks);
     const double d = (res.cases.at(rep("kb1000")).distance - res.cases.at(rep("disks")).distance) * 1e6;
-    std::snprintf(note, sizeof note, "distance 1000 k_b - disks = %+.3f um (within the study's own gap %.2f um?); 1 k_b - disks = %+.3f um; "
+    std::snprintf(note, sizeof note, "distance 1000 k_b - disks = %+.3f um (within the study's own gap %.2f um? a criterion set after a result); 1 k_b - disks = %+.3f um; "
                   "by the distance rows' tolerance %.3g um: %s", d, gap,
                   ok(rep("kb1")) ? (res.cases.at(rep("kb1")).distance - res.cases.at(rep("disks")).distance) * 1e6 : NAN, row_tol,
                   std::abs(d) <= row_tol ? "holds" : "does not hold");

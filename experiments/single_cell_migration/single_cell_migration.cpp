@@ -499,7 +499,7 @@ Results run(const Params& p) {
       // The row under each reading of U (reference-data/readings.csv), at the row's last sample.
       const std::string series = (fs::path(p.out_dir) / ("narrow_" + p.membrane.units + "_" + tag(s)) / "series.csv").string();
       res.measured["re_" + id].readings =
-          case_runner::u_readings(series, c.summary.t_end, c.summary.reynolds / c.summary.mean_velocity);
+          case_runner::u_readings(series, csv_column(series, "t").back(), c.summary.reynolds / c.summary.mean_velocity);
       const double y7 = value_at(c.t, c.y, p.centreline_check_time);
       char note[64];
       std::snprintf(note, sizeof note, "y(%.1f ms) = %.3f um", p.centreline_check_time * 1e3, y7 * 1e6);

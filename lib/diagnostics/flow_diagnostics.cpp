@@ -38,8 +38,6 @@ MeanVelocities mean_velocities(const ChannelMesh& m, const VelocityField& u) {
 
 double mean_velocity(const ChannelMesh& m, const VelocityField& u) { return mean_velocities(m, u).p1; }
 
-double nodal_mean_velocity(const ChannelMesh& m, const VelocityField& u) { return mean_velocities(m, u).nodal; }
-
 double reynolds_number(double mean_velocity, const FluidProperties& f, double height) {
   return f.density * mean_velocity * height / f.viscosity;
 }

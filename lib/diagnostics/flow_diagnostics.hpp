@@ -24,7 +24,6 @@
 namespace rbc {
 
 double mean_velocity(const ChannelMesh& mesh, const VelocityField& u);
-double nodal_mean_velocity(const ChannelMesh& mesh, const VelocityField& u);  // U_n, m/s
 struct MeanVelocities {
   double p1 = 0, nodal = 0;  // U and U_n, m/s
 };

@@ -30,24 +30,27 @@ ObstacleGeometry::ObstacleGeometry(const ChannelMesh& mesh, std::vector<Obstacle
     }
 }
 
+namespace {
+
+// Does the periodic image of x (channel length L) lie in the obstacle's x-range [a, b + slack]?
+bool in_x_range(const Obstacle& o, double x, double L, double slack) {
+  if (o.x[1] - o.x[0] >= L) return true;
+  const double s = x - L * std::floor((x - o.x[0]) / L);  // the image of x in [a, a + L)
+  return s <= o.x[1] + slack;
+}
+
+}  // namespace
+
 bool ObstacleGeometry::contains(double x, double y) const {
-  const double L = m_.length;
-  for (const Obstacle& o : obstacles_) {
-    if (y < o.y[0] || y > o.y[1]) continue;
-    if (o.x[1] - o.x[0] >= L) return true;
-    const double s = x - L * std::floor((x - o.x[0]) / L);  // the image of x in [a, a + L)
-    if (s <= o.x[1]) return true;
-  }
+  for (const Obstacle& o : obstacles_)
+    if (y >= o.y[0] && y <= o.y[1] && in_x_range(o, x, m_.length, 0.0)) return true;
   return false;
 }
 
 double ObstacleGeometry::open_height(double x) const {
-  const double L = m_.length;
   double open = m_.height;
-  for (const Obstacle& o : obstacles_) {
-    const double s = x - L * std::floor((x - o.x[0]) / L);
-    if (o.x[1] - o.x[0] >= L || s <= o.x[1] + 1e-9 * m_.h) open -= o.y[1] - o.y[0];
-  }
+  for (const Obstacle& o : obstacles_)
+    if (in_x_range(o, x, m_.length, 1e-9 * m_.h)) open -= o.y[1] - o.y[0];
   return open;
 }
 
@@ -77,10 +80,9 @@ PartVelocities part_velocities(const ObstacleGeometry& g, const VelocityField& u
   // drops the wall row beneath it), so each narrow section counts the passage and its two
   // bounding rows, as each wide section counts H and the two wall rows.
   auto outside_passage = [&](double x, double y) {
-    const double e = 1e-6 * m.h, L = m.length;
+    const double e = 1e-6 * m.h;
     for (const Obstacle& o : g.obstacles()) {
-      const double s = x - L * std::floor((x - o.x[0]) / L);
-      if (o.x[1] - o.x[0] < L && s > o.x[1] + e) continue;
+      if (!in_x_range(o, x, m.length, 1e-9 * m.h)) continue;  // the sections open_height counts as the block's
       const bool free_below = o.y[0] > e, free_above = o.y[1] < m.height - e;
       if (y > o.y[0] + e && y < o.y[1] - e) return true;
       if (std::abs(y - o.y[0]) <= e && !free_below) return true;
@@ -102,8 +104,8 @@ PartVelocities part_velocities(const ObstacleGeometry& g, const VelocityField& u
         ++(narrow ? narrow_nodes : wide_nodes);
       }
   }
-  if (narrow_nodes) p.narrow_nodal /= double(narrow_nodes);
-  if (wide_nodes) p.wide_nodal /= double(wide_nodes);
+  p.narrow_nodal = narrow_nodes ? p.narrow_nodal / double(narrow_nodes) : NAN;  // a part without nodes measures nothing
+  p.wide_nodal = wide_nodes ? p.wide_nodal / double(wide_nodes) : NAN;
   if (p.narrow_sections) {
     p.narrow /= p.narrow_sections;
     p.narrow_flux /= p.narrow_sections;

@@ -27,7 +27,9 @@ struct CheckpointError : std::runtime_error {
 // 3: the simulation also keeps the time its fluid has spent above the speed limit (check_health).
 // 4: same payload; series.csv with cells has two more columns (the plasma alone) and the s* = 1
 //    cell is the regular polygon at rest, so a run of format 3 cannot be continued by this one.
-inline constexpr std::uint32_t kCheckpointFormat = 4;
+// 5: the run's state also keeps the nodal mean U_n's average in progress (series.csv's
+//    nodal_mean_velocity column).
+inline constexpr std::uint32_t kCheckpointFormat = 5;
 
 class CheckpointWriter {
  public:

@@ -50,6 +50,9 @@ bool bold(Verdict v) {
   return v == Verdict::Pass || v == Verdict::Fail || v == Verdict::Deviation || v == Verdict::Unexplained || v == Verdict::Unresolved;
 }
 
+// The largest |ours − study| the row's tolerance allows, in the row's unit.
+double allowed_difference(const ReferenceRow& r) { return r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance; }
+
 // Measured::readings as one CSV cell, "id=value;id=value", at full precision.
 std::string format_readings(const std::vector<std::pair<std::string, double>>& readings) {
   std::string s;
@@ -201,7 +204,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
           v = value;
           read_as_chosen = true;
         }
-      const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
+      const double allowed = allowed_difference(r);
       // An incomplete u_num (evidence runs missing) cannot clear a row: it counts as not measured.
       const std::optional<double> u = it->second.u.missing.empty() ? it->second.u.total() : std::nullopt;
       within = std::abs(v - *r.value) <= allowed;
@@ -215,7 +218,10 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       c.u_parts = it->second.u.describe();
       c.converged_in_h = it->second.converged_in_h;
       c.how = it->second.how;
-      if (read_as_chosen) c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
+      if (read_as_chosen)
+        c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
+      else if (!chosen.empty() && !it->second.readings.empty())
+        c.how += std::string(c.how.empty() ? "" : "; ") + "the chosen reading '" + chosen + "' not measured on this row: its own value";
       measured = true;
     } else {
       within = it->second.holds.value_or(false);
@@ -368,8 +374,9 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
     for (const auto& c : kCheckColumns) expected += (expected.empty() ? "" : ",") + c;
     if (!header.empty() && header != expected) {
       // A section written by an older checker (other columns, other verdicts): its rows count as
-      // not run until the experiment runs again.
-      header.clear();
+      // not run until the experiment runs again, and say so.
+      for (const ReferenceRow& r : load_reference_table(reference_table_path(exp)))
+        ours[r.id] = Ours{"- (an older checker's check.csv: re-run)", r.kind == "context" ? "context" : "not run", "", "", "", ""};
     } else if (!header.empty()) {
       for (const CsvRecord& rec : read_csv_table(check, kCheckColumns)) {
         const auto& f = rec.fields;
@@ -396,16 +403,16 @@ void write_study_summary(const std::vector<std::string>& experiments, const std:
       if (o.verdict == "UNEXPLAINED") unexplained << line;
       const auto values = parse_readings(o.readings);
       if (!values.empty() && r.value) {
-        const double allowed = r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance;
+        const double allowed = allowed_difference(r);
         readings_table << "| " << exp << " | " << md_cell(r.quantity) << " | " << study << " | " << o.tolerance << " |";
         for (const Reading& reading : readings) {
           std::string cell = "—";
           for (const auto& [id, v] : values)
             if (id == reading.id) {
-              char b[48];
-              std::snprintf(b, sizeof b, "%.5g", v);
+              char text[48];
+              std::snprintf(text, sizeof text, "%.5g", v);
               const bool in = std::abs(v - *r.value) <= allowed;
-              cell = std::string(b) + (in ? " ✓" : "");
+              cell = std::string(text) + (in ? " ✓" : "");
               ++measured_under[reading.id];
               if (in) ++inside[reading.id];
             }

@@ -138,7 +138,8 @@ LinearFit fit_observed_order(const std::vector<double>& f, const std::vector<dou
 RefinementUncertainty grid_convergence_index(const std::vector<double>& f, double r, double formal, int reported, double noise) {
   if (f.size() < 2) throw std::invalid_argument("grid_convergence_index: needs at least two levels");
   if (!(r > 1) || !(formal > 0)) throw std::invalid_argument("grid_convergence_index: needs a ratio > 1 and a formal order > 0");
-  if (reported != 0 && reported != 1) throw std::invalid_argument("grid_convergence_index: the reported level is 0 (finest) or 1");
+  if (reported < 0 || std::size_t(reported) >= f.size())
+    throw std::invalid_argument("grid_convergence_index: the reported level is one of the levels given (0: the finest)");
   if (noise < 0) throw std::invalid_argument("grid_convergence_index: the noise is a standard deviation, >= 0 (NaN: not known)");
   const std::size_t n = f.size();
   const double q = formal;
@@ -200,7 +201,7 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& f, doubl
     u.safety_factor = 3.0;
     u.fit_sigma = noise_known ? noise : NAN;
     u.extrapolated = f[0] - e21 / denom;
-    u.u = 3.0 * std::abs(e21) * std::pow(hr, q) / denom + (noise_known ? noise : 0.0);
+    u.u = 3.0 * std::abs(e21) * std::pow(hr, q) / denom + (noise_known ? 2 * noise : 0.0);
     return u;
   }
 
@@ -274,7 +275,7 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& f, doubl
 
 std::string RefinementUncertainty::describe(int digits) const {
   std::string s = label.empty() ? "" : label + ": ";
-  const std::string of = reported == 1 ? " of the second finest" : "";
+  const std::string of = reported == 0 ? "" : reported == 1 ? " of the second finest" : " of level " + std::to_string(reported) + " (0 the finest)";
   const std::string fixed = fit == RefinementFit::TwoTerm ? g(order_used, 2) + " and " + g(2 * order_used, 2) : g(order_used, 2);
   switch (fit) {
     case RefinementFit::Noise:
@@ -346,8 +347,8 @@ std::string NumericalUncertainty::describe(int digits) const {
     s += p;
   };
   if (dt) part(dt->describe(digits));
-  if (ensemble && std::isfinite(*ensemble)) part(std::string("ensemble of ").append(std::to_string(members)).append(": s ").append(g(*ensemble, digits)));
-  if (window && std::isfinite(*window)) part(std::string("window noise ").append(g(*window, digits)));
+  if (ensemble && std::isfinite(*ensemble)) part(std::string("ensemble of ").append(std::to_string(members)).append(": s ").append(g(*ensemble, digits)).append(" (2 s at 95 %)"));
+  if (window && std::isfinite(*window)) part(std::string("window noise ").append(g(*window, digits)).append(" (x2)"));
   if (!missing.empty()) part("missing: " + missing);
   if (!other.empty()) {
     std::string o = other;

@@ -21,8 +21,10 @@
 //   the data range                 Δ_φ = (φ_max − φ_min)/(n − 1)
 //   order thresholds: the paper's 0.5, 2 and 2.1 are for second-order methods; here they are
 //   scaled to the formal order, by q/2:  p_lo = q/4,  p_hi = q,  p_fs = 1.05 q  (Δt: 0.25, 1, 1.05)
-//   the paper's choice: δ_RE when the values are monotone and p_lo ≤ p ≤ p_hi; otherwise the one
+//   the choice: δ_RE when the values are monotone and p_lo ≤ p ≤ p_hi; otherwise the one
 //     of δ_a, δ_b, δ_ab with the smallest σ
+//     (the paper, for p above its range, also weighs δ_RE against the fixed-order fits by σ; we
+//     drop δ_RE there: an order above the scheme's is not credited)
 //   few points (n = 3): δ_RE fits exactly (no degree of freedom) and δ_ab is not used; δ_RE's σ
 //     is then min(σ_a, σ_b), one degree of freedom each: how far the data are from the
 //     expansions the scheme has
@@ -36,15 +38,18 @@
 //   U_k = F_s ε_k + σ* + |φ_k − φ_fit(h_k)|              when σ* < Δ_φ
 //   U_k = 3 σ*/Δ_φ (ε_k + σ* + |φ_k − φ_fit(h_k)|)       when σ* ≥ Δ_φ (scatter larger than the
 //                                                         steps: noise, no order observed)
-//   two levels: Roache's GCI with q and F_s = 3,  U_k = 3 |e_21| r^(qk)/(r^q − 1) (+ s if given)
+//   two levels: Roache's GCI with q and F_s = 3,  U_k = 3 |e_21| r^(qk)/(r^q − 1) (+ 2 s if given)
 //   all values equal: U_k = 2 s (0 without s)
 // Noise. Given s, the levels are told from noise by the slope α_a of δ_a: its standard error is
 // SE = s/sqrt(S_xx), S_xx = Σ_k (h_k^a − mean)²; |α_a| ≤ 2 SE (for two levels: |e_21| ≤ 2√2 s)
 // is noise: no order is observed, the limit is δ_a's φ_0 and
 //   U_k = 2 s + (|α_a| + 2 SE) h_k^a
 // (the run's own scatter at 95 % plus the largest first-order error the data allow).
-// U is that of the reported level k = 0 (the finest) or k = 1 (a finer run was made as evidence
-// only), against the Δt → 0 (h → 0) limit, at 95 %.
+// U is that of the reported level k (0 the finest; a row run at a coarser level than the finest
+// evidence run reports its own), against the Δt → 0 (h → 0) limit, at 95 %.
+// Where s is given, the fit's σ* and the start ensemble's own part (below) both carry s: σ* is the
+// uncertainty of the fitted limit from scattered levels, 2 s that of the reported run's value
+// about its ensemble; they overlap, and both are kept (conservative, never smaller).
 //
 // The start ensemble's part: the sample standard deviation s of the members (the study ran one
 // arrangement; ours at an arbitrary start is uncertain by s, not by s/√n).
@@ -69,7 +74,7 @@ enum class RefinementFit { TwoLevels, ObservedOrder, FixedLow, FixedHigh, TwoTer
 struct RefinementUncertainty {
   int levels = 0;               // values used (0: none)
   double u = 0;                 // U of the reported level at 95 %, in the value's unit
-  int reported = 0;             // which level u is for: 0 the finest, 1 the next coarser
+  int reported = 0;             // which level u is for: 0 the finest, 1 the next coarser, ...
   double observed_order = 0;    // p of δ_RE; NaN with two levels, values that are not monotone, noise, or σ* ≥ Δ_φ
   double order_used = 0;        // the order of the fit used (p, a or b; a for δ_ab; q with two levels)
   double safety_factor = 0;     // F_s (NaN for noise: no factor)
@@ -90,10 +95,10 @@ struct RefinementUncertainty {
 };
 
 // finest_first: the values at the finest level first, then each coarser one (ratio r apart);
-// reported: the level whose U u is (0: the finest, 1: the next coarser); noise: the standard
+// reported: the level whose U u is (0: the finest, 1: the next coarser, ...); noise: the standard
 // deviation s of one run's value from other sources (NaN: not known).
 // Throws std::invalid_argument for fewer than two values, a ratio ≤ 1, a formal order ≤ 0, a
-// reported level other than 0 and 1, or a negative noise.
+// reported level outside the levels given, or a negative noise.
 RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_first, double ratio, double formal_order, int reported = 0,
                                              double noise = NAN);
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <sstream>
 
@@ -629,7 +630,7 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
     s.wall_seconds = j.at("wall_seconds");
     s.mean_velocity = j.at("mean_velocity");
     s.reynolds = j.at("reynolds");
-    s.nodal_mean_velocity = j.at("nodal_mean_velocity");
+    s.nodal_mean_velocity = j.value("nodal_mean_velocity", std::numeric_limits<double>::quiet_NaN());  // absent before format 5
     s.hematocrit = j.at("hematocrit");
     s.max_speed = j.at("max_speed");
     for (const auto& c : j.at("cells")) {

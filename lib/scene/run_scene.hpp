@@ -3,9 +3,11 @@
 //   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, nodal_mean_velocity, hematocrit, cells, disks, …
 //   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
 //                 coupling_iterations, nodal_mean_velocity (U_n, averaged over the sample interval as
-//                 mean_velocity is), with obstacles the parts' wide/narrow velocities (flux over the open
-//                 height, and the nodal mean over the open passage), with cells plasma_flux_velocity and plasma_open_velocity (the
-//                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp), then per cell k: cellk_x, cellk_y, cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
+//                 mean_velocity is), with cells plasma_flux_velocity and plasma_open_velocity (the
+//                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp) and the wall gaps, with
+//                 obstacles the parts' velocities (flux over the open height, and the nodal mean over
+//                 the passage: fictitious_domain/obstacles.hpp), then per cell k: cellk_x, cellk_y,
+//                 cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
 //   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
 //   frames.dat    the movie's frames when [output] frames > 0 (scene/movie_frames.hpp)
 //   membranes_final.dat  the membranes at the end
