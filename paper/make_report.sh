@@ -395,9 +395,12 @@ out="$report/README.md.tmp"
   fi
   echo
   if [ "$mode" = reproduce ]; then
-    echo "Every number is printed as ours ± u_num, our numerical uncertainty (Δt refinement, start ensemble,"
-    echo "averaging window; the mesh apart, in the column 'converged in h'), against a tolerance from the study"
-    echo "alone (reference-data/README.md). Verdicts: **PASS** within the tolerance with u_num no larger than it;"
+    echo "Every number is printed as ours ± u_num, our numerical uncertainty at 95 % (Δt refinement by Eça &"
+    echo "Hoekstra's least squares, start ensemble and averaging window at twice their spread; the mesh apart, in"
+    echo "the column 'converged in h'), against a tolerance from the study alone: its digits and the differences"
+    echo "it draws conclusions from (reference-data/README.md). Where the study's words allow several readings"
+    echo "(U in Re), every reading is measured and shown below, and one chosen for the whole study."
+    echo "Verdicts: **PASS** within the tolerance with u_num no larger than it;"
     echo "**UNRESOLVED** u_num larger than the tolerance (or not measured) and ours ± u_num reaching it: our"
     echo "numerics cannot decide, counted as not reproduced; **DEVIATION** outside it, recorded in"
     echo "reference-data/deviations/ with our expected band, and its cause shown by a named run or exact"
