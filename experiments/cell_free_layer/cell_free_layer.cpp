@@ -74,7 +74,7 @@ std::vector<Eigen::Vector2d> arrangement(int n, unsigned seed, double L, double 
       Eigen::Vector2d p((k + 0.5 + (r % 2 ? 0.5 : 0.0)) * L / kColumns, margin + (r + 0.5) * (H - 2 * margin) / rows);
       if (seed != 0) {
         p.x() += kShiftX * case_runner::symmetric_unit(g);
-        p.y() += kShiftY * case_runner::symmetric_unit(g);
+        p.y() += shift_y(rows, H) * case_runner::symmetric_unit(g);
       }
       c.push_back(p);
     }
@@ -148,6 +148,24 @@ std::vector<Case> cases(const Params& p) {
         v.push_back(c);
       }
     }
+    // The arrangements at the rows' Δt (the ensemble the rows are judged by), and the study's form
+    // of the pressure against the incremental one over a Δt ladder to kEarlyEnd.
+    for (int n : {100, 50})
+      for (unsigned s : p.seeds) {
+        Case c = make(base_name(n) + "_dt1.5us_seed" + std::to_string(s), "ensemble_reported", n, s);
+        c.dt = 1.5e-6;
+        v.push_back(c);
+      }
+    for (double dt : kFormDts)
+      for (const char* form : {"study", "incremental"}) {
+        char name[64];
+        std::snprintf(name, sizeof name, "n100_early_%s_dt%gus", form == std::string("study") ? "study" : "inc", dt * 1e6);
+        Case c = make(name, "form", 100, 1);
+        c.projection = form;
+        c.dt = dt;
+        c.end = kEarlyEnd;
+        v.push_back(c);
+      }
     Case bare = make(base_name(100) + "_no_repulsion", "evidence", 100, 1);  // does the crowd still need it?
     bare.repulsion = 0;
     v.push_back(bare);

@@ -17,8 +17,10 @@
 // column c at x1 = (c + 1/2) L / 10, odd rows shifted by half a column; every cell's long axis
 // along x1 (SPEC section 5: "long axis along x1 unless stated"). Each centre is then moved by a
 // uniform amount in [−δ1, δ1] x [−δ2, δ2] drawn from the case's seed (a Mersenne twister's raw
-// output, the same on every platform): δ1 = 1 um, δ2 = 0.4 um keep the 100-cell rows (5 um apart,
-// cells 3.4 um thick) at least 0.8 um apart. Seed 1 is the study's case; seeds 2 to 5 the ensemble.
+// output, the same on every platform): δ1 = 1 um, and δ2 all the room the rows leave, half of
+// H/rows less a cell's thickness (3.4 um) and 0.8 um kept between rows: 0.4 um for the 100 cells
+// (rows 5 um apart), 2.9 um for the 50 (10 um apart), so that the 50 cells' starts differ as much as
+// their rows allow. Seed 1 is the study's case; seeds 2 to 6 the ensemble (six arrangements).
 //
 // Definitions (SPEC sections 5.3 and 6):
 //   cell-free layer  at each sample the gap between a wall and the membrane node (of any cell)
@@ -34,7 +36,11 @@
 //
 // Cases (--list-cases; run one with --only NAME, collect with --check --reuse):
 //   n50 n100                         the study's runs (seed 1)
-//   n50_seed2..3, n100_seed2..3      the ensemble (other arrangements)
+//   n50_seed2..6, n100_seed2..6      the ensemble (other arrangements), Δt = 3 us
+//   n50_dt1.5us_seed2..6, n100_dt1.5us_seed2..6  the same arrangements at the rows' Δt
+//   n100_early_study_dt<l>us, n100_early_inc_dt<l>us  100 cells to kEarlyEnd in the study's and
+//                                    the incremental form of the pressure, Δt = 3, 1.5, 0.75,
+//                                    0.375 us: does the study's form converge to the other's answer?
 //   n50_dt1.5us, n50_h0.625um, ...   Δt halved and h doubled (the error)
 //   n100_wide_gaps                   100 cells started about 2.9 um off the walls (kWideGapMargin)
 //   n100_explicit_early              100 cells, the study's own scheme (explicit coupling, the study's
@@ -66,7 +72,10 @@ namespace rbc::cell_free_layer {
 
 // The arrangement: 10 columns; the perturbation's half-widths, m.
 inline constexpr int kColumns = 10;
-inline constexpr double kShiftX = 1e-6, kShiftY = 0.4e-6;
+inline constexpr double kShiftX = 1e-6;
+inline constexpr double kCellThickness = 3.4e-6, kRowClearance = 0.8e-6;
+// δ2 of a lattice of `rows` rows over the height H, m (above).
+inline double shift_y(int rows, double H) { return 0.5 * (H / rows - kCellThickness - kRowClearance); }
 inline constexpr double kSwellingRatio = 0.7;
 // The rows' window: the last millisecond; the Hct profile's: the last 20 ms (snapshots every 1 ms).
 inline constexpr double kWindow = 1e-3;
@@ -98,6 +107,8 @@ inline constexpr double kWideGapMargin = 2.25e-6;
 // [kEarlyFrom, kEarlyEnd], where they already part, and over the second half of kConvTime
 // (early_layer_table; there also the 50 cells' 1.2 ms runs of both couplings).
 inline constexpr double kExplicitDt = 5e-8, kEarlyFrom = 2e-3, kEarlyEnd = 20e-3;
+// The pressure forms' Δt ladder to kEarlyEnd (n100_early_*), s, finest first.
+inline const std::vector<double> kFormDts = {0.375e-6, 0.75e-6, 1.5e-6, 3e-6};
 
 struct Case {
   std::string name;
@@ -121,7 +132,7 @@ struct Params {
   bool reuse = false;
   bool collect = false;  // read back the finished cases only; run none (the others "not run")
   std::string only;
-  std::vector<unsigned> seeds = {2, 3, 4, 5};  // the ensemble besides the study's seed 1 (five members: README.md)
+  std::vector<unsigned> seeds = {2, 3, 4, 5, 6};  // the ensemble besides the study's seed 1 (six members: README.md)
   bool evidence = true;
   bool convergence = true;  // the 1.2 ms error-against-run-time runs
   // The reported runs only, none of the evidence (make reproduce: u_num as recorded by make

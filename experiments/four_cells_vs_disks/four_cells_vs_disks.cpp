@@ -110,7 +110,7 @@ Scene case_scene(const Case& c, bool quick) {
   const double end = c.end > 0 ? c.end : quick ? kQuickEnd : 0;
   if (end > 0) {
     o.push_back("time.end=" + num(end));
-    o.push_back(end < 0.01 ? "output.snapshots=[0.0, " + num(end) + "]" : "output.snapshots=[0.0, 0.05, 0.1, " + num(end) + "]");
+    o.push_back(end <= 0.1 ? "output.snapshots=[0.0, " + num(end) + "]" : "output.snapshots=[0.0, 0.05, 0.1, " + num(end) + "]");
     if (end <= kConvTime) o.push_back("output.every=" + num(end / 10));
   }
   if (c.dt > 0) {
@@ -182,6 +182,31 @@ std::vector<Case> cases(const Params& p) {
     Case c = disks("disks_seed" + std::to_string(s), "ensemble");
     c.seed = s;
     v.push_back(c);
+  }
+  if (p.evidence && !p.quick) {
+    // Paired seeds over Δt: the same perturbed places (seed s) at each level, so that a level's
+    // step is measured on the same start and the start's spread beside it (the study's places,
+    // seed 0, are the Δt levels above). The finest level first (the longest).
+    for (const std::string base : {"kb1000", "kb1"})
+      for (double dt : kPairedDts)
+        for (unsigned s : p.paired_seeds) {
+          Case c = body(base);
+          char name[64];
+          std::snprintf(name, sizeof name, "%s_seed%u_dt%gus", base.c_str(), s, dt * 1e6);
+          c.name = name;
+          c.role = "paired";
+          c.seed = s;
+          c.dt = dt;
+          v.push_back(c);
+        }
+    // The study's own scheme (explicit coupling, the study's form of the pressure: the scene's)
+    // for the k_b cells from the study's places, to kExplicitEnd: the trajectory the semi-implicit
+    // runs must approach as their Δt shrinks.
+    Case e = cells("kb1_explicit", "evidence", 1.0, 1.0);
+    e.coupling = "explicit";
+    e.dt = kExplicitDt;
+    e.end = kExplicitEnd;
+    v.push_back(e);
   }
   if (p.evidence && !p.quick) {
     Case a = cells("kb1_h0.625um", "evidence", 1.0, 1.0), b = disks("disks_h0.625um", "evidence");

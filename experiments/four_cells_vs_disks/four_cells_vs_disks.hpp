@@ -40,6 +40,9 @@
 //   one_disk_x2_10um.toml, one_disk_x2_20um.toml  (scenes for build/bin/rbcflow run) one disk from
 //                                             either side of its equilibrium, to 400 ms
 //   conv_*                                    error against run time on a 1.2 ms horizon
+//   kb1_seed<s>_dt<l>us, kb1000_seed<s>_dt<l>us  paired seeds: the ensemble's starts (s = 1..5)
+//                                             at each Δt level l = 3, 1.5, 0.75 us
+//   kb1_explicit                              the study's explicit scheme, to kExplicitEnd
 //   pg2002_h*_dt*                             one disk against Pan & Glowinski (2002): the
 //                                             validation of our disks over Δt and h
 //
@@ -79,6 +82,13 @@ inline const std::string kValidationScene = "one_disk_pan_glowinski_2002.toml";
 // Error against run time: from rest to kConvTime (a whole number of every Δt of the study:
 // 1.2 ms = 100 x 12 us = 48000 x 25 ns, so that all runs compare at the same instant).
 inline constexpr double kConvTime = 1.2e-3;
+// The paired-seed ensembles of the k_b and 1000 k_b cells (kb1_seed<s>_dt<level>us,
+// kb1000_seed<s>_dt<level>us): the Δt levels, s, finest first.
+inline const std::vector<double> kPairedDts = {0.75e-6, 1.5e-6, 3e-6};
+// The study's explicit scheme for the k_b cells (kb1_explicit): Δt, s, at three quarters of the
+// one-cell stability limit at this h (8e-8 s: stability_map), and its end, s: the study's 200 ms
+// (3.3 million steps, about 70 min on one core; its first 50 ms are the trajectory compared).
+inline constexpr double kExplicitDt = 6e-8, kExplicitEnd = 0.2;
 
 struct Case {
   std::string name;
@@ -102,6 +112,7 @@ struct Params {
   bool collect = false;  // read back the finished cases only; run none (the others "not run")
   std::string only;      // run this case only (exact name), no comparison
   std::vector<unsigned> seeds = {1, 2, 3};
+  std::vector<unsigned> paired_seeds = {1, 2, 3, 4, 5};  // with seed 0 (the study's places): six
   bool evidence = true;     // the Δt-halved and h-doubled full runs
   bool convergence = true;  // the 1.2 ms error-against-run-time study
   // The reported runs only, none of the evidence (make reproduce: u_num as recorded by make
