@@ -144,6 +144,24 @@ if [ -f "$times_record" ] && [ "$QUICK" != "1" ]; then
     }' > "$jobs_file.sorted" && mv "$jobs_file.sorted" "$jobs_file"
 fi
 
+# The evidence kept in the repository (paper/keep_evidence.sh: paper/evidence/data/<experiment>/<case>,
+# each with the code that made it): a kept case whose folder is missing goes into place when this
+# command does not run the case itself (with COLLECT=1: every kept case), so that e.g. make
+# reproduce's crowd rows are judged over the arrangements kept from earlier runs. Not in QUICK.
+restored=0
+if [ "$QUICK" != "1" ]; then
+  for exp in "${run_list[@]}"; do
+    for kept_case in paper/evidence/data/"$exp"/*/; do
+      [ -f "$kept_case/summary.json" ] || continue
+      name=$(basename "$kept_case")
+      [ -e "$results/$exp/$name" ] && continue
+      [ "$COLLECT" != "1" ] && grep -qx "$exp $name" "$jobs_file" && continue
+      cp -r "$kept_case" "$results/$exp/$name" && restored=$((restored + 1))
+    done
+  done
+  [ "$restored" -gt 0 ] && log "$restored kept case(s) put in place from paper/evidence/data/ (each with its code_id; the tables name it)"
+fi
+
 # One case: read back if finished, resumed from its checkpoint if stopped, else run.
 run_one() {  # exp case
   local exp=$1 name=$2 dir="$results/$1"

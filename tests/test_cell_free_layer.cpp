@@ -75,6 +75,10 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
       EXPECT_EQ(s.end, kEarlyEnd);
       EXPECT_EQ(s.coupling, "explicit");
       EXPECT_EQ(s.dt, kExplicitDt);
+    } else if (c.role == "form") {  // the pressure forms' Δt ladder, to kEarlyEnd
+      EXPECT_EQ(s.end, kEarlyEnd) << c.name;
+      EXPECT_EQ(s.dt, c.dt) << c.name;
+      EXPECT_EQ(c.cells, 100) << c.name;
     } else {
       EXPECT_EQ(s.end, c.cells == 50 ? 0.15 : 0.2) << c.name;
     }
@@ -82,6 +86,7 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
     // scheme (n100_explicit_early) and the 1.2 ms runs not named _inc; the incremental form (the
     // scene file's) everywhere else.
     const bool study_form = c.name.find("_study_pressure") != std::string::npos || c.name == "n100_explicit_early" ||
+                            c.name.find("_early_study_") != std::string::npos ||
                             (c.role == "convergence" && c.name.find("_inc_") == std::string::npos);
     EXPECT_EQ(s.projection, study_form ? "study" : "incremental") << c.name;
     // The membrane repulsion: on (range 2h) in the 100-cell cases but one and in n50_repulsion.
@@ -105,8 +110,19 @@ TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRuns) {
   Params p;
   p.study_only = true;
   std::vector<std::string> names;
-  for (const Case& c : cases(p)) names.push_back(c.name);
+  int read_only = 0;
+  for (const Case& c : cases(p)) {
+    if (!c.read_only) names.push_back(c.name);
+    // The rows' other arrangements at their Δt: read back where finished or kept, never run.
+    if (c.read_only) {
+      EXPECT_EQ(c.role, "ensemble_reported") << c.name;
+      EXPECT_EQ(c.dt, 1.5e-6) << c.name;
+      ++read_only;
+    }
+  }
   EXPECT_EQ(names, (std::vector<std::string>{"n100_dt1.5us", "n50_dt1.5us"}));
+  EXPECT_EQ(read_only, 2 * int(p.seeds.size()));
+  EXPECT_GE(p.seeds.size() + 1, kEnsembleMinimum);  // seed 1 and the others: a decidable ensemble
   Params quick;
   quick.quick = true;
   quick.study_only = true;

@@ -446,5 +446,53 @@ TEST(ChannelFlowExperiment, CellFreeChannelsReproduceTheStudysMeanVelocityAndRey
   for (const auto& [name, r] : res.channels) EXPECT_LT(r.profile_error, 1e-9) << name;
 }
 
+
+TEST(ReferenceData, ChaoticRowIsJudgedAsADistributionOfItsMembers) {
+  // A layer of 3.0 um, tolerance 7 %: six members around 3.1 with s = 0.1.
+  const std::vector<ReferenceRow> rows = {{"cfl", "layer", 3.0, "um", 0.07, "rel", "number", "Sec. 3", "r", ""}};
+  auto ensemble = [](std::vector<double> values, double dt_part) {
+    Measured m;
+    for (std::size_t k = 0; k < values.size(); ++k) m.ensemble.push_back({"seed" + std::to_string(k + 1), values[k]});
+    const EnsembleStatistics e = ensemble_statistics(m.ensemble, 0.0);
+    m.u.ensemble = e.s;
+    m.u.members = int(values.size());
+    m.u.of_mean = true;
+    m.u.other = "Δt";
+    m.u.other_value = dt_part;
+    return std::map<std::string, Measured>{{"cfl", m}};
+  };
+  const std::vector<double> near = {3.0, 3.2, 3.1, 3.0, 3.2, 3.1};  // mean 3.1, s 0.0894
+  // z = (3.0 − 3.1) / (s √(7/6)) = −1.03 and |3.1 − 3.0| ≤ 0.21 + u: PASS, the row's value the mean.
+  CheckSummary s = compare_with_reference(rows, ensemble(near, 0.01), {}, true);
+  EXPECT_EQ(s.passed, 1) << s.rows[0].note;
+  EXPECT_EQ(s.rows[0].ours, "3.1");
+  const EnsembleStatistics e = ensemble_statistics(ensemble(near, 0)["cfl"].ensemble, 3.0);
+  EXPECT_NEAR(e.mean, 3.1, 1e-12);
+  EXPECT_NEAR(e.z, -0.1 / (e.s * std::sqrt(7.0 / 6.0)), 1e-12);
+  // The same spread around 3.5: z = −5.2, the study's value not a likely member: UNEXPLAINED,
+  // never FAIL (no band is recorded for a distribution's mean).
+  std::vector<double> far = near;
+  for (double& v : far) v += 0.4;
+  s = compare_with_reference(rows, ensemble(far, 0.01), {}, true);
+  EXPECT_EQ(s.unexplained, 1);
+  EXPECT_EQ(s.failed, 0);
+  // |z| ≤ 2 within reach, but a spread so wide that the mean's u_num (2 s/√6 = 0.73) exceeds the
+  // tolerance (0.21): UNRESOLVED.
+  s = compare_with_reference(rows, ensemble({2.0, 3.0, 4.0, 2.5, 3.5, 4.4}, 0.0), {}, true);
+  EXPECT_EQ(s.unresolved, 1) << s.rows[0].note;
+  // |z| ≤ 2 but the mean beyond the tolerance's reach: mean 3.42, s = 0.2, z = −1.94,
+  // |m − study| = 0.42 > T + 2 s/√6 = 0.37: UNEXPLAINED.
+  s = compare_with_reference(rows, ensemble({3.137, 3.279, 3.42, 3.42, 3.561, 3.703}, 0.0), {}, true);
+  EXPECT_EQ(s.unexplained, 1) << s.rows[0].note;
+  // Five members: a distribution cannot decide yet.
+  s = compare_with_reference(rows, ensemble({3.0, 3.2, 3.1, 3.0, 3.2}, 0.01), {}, true);
+  EXPECT_EQ(s.unresolved, 1);
+  // A member's value under the chosen reading replaces its own.
+  Measured m;
+  m.ensemble = {{"a", 1.0, {{"nodal", 2.0}}}, {"b", 3.0}};
+  EXPECT_NEAR(ensemble_statistics(m.ensemble, 0, "nodal").mean, 2.5, 1e-12);
+  EXPECT_NEAR(ensemble_statistics(m.ensemble, 0).mean, 2.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace rbc

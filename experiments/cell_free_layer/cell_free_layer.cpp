@@ -137,6 +137,17 @@ std::vector<Case> cases(const Params& p) {
       v.push_back(c);
     }
   }
+  if ((p.evidence || p.study_only) && !p.quick) {
+    // The arrangements at the rows' Δt: the ensemble the rows are judged by (make evidence runs
+    // them; make reproduce reads those finished or kept, and runs seed 1 alone).
+    for (int n : {100, 50})
+      for (unsigned s : p.seeds) {
+        Case c = make(base_name(n) + "_dt1.5us_seed" + std::to_string(s), "ensemble_reported", n, s);
+        c.dt = 1.5e-6;
+        c.read_only = p.study_only;
+        v.push_back(c);
+      }
+  }
   if (p.evidence && !p.quick) {
     for (int n : {100, 50}) {  // the study's pressure splitting at our step (README.md, Deviations)
       Case c = make(base_name(n) + "_study_pressure", "evidence", n, 1);
@@ -148,14 +159,7 @@ std::vector<Case> cases(const Params& p) {
         v.push_back(c);
       }
     }
-    // The arrangements at the rows' Δt (the ensemble the rows are judged by), and the study's form
-    // of the pressure against the incremental one over a Δt ladder to kEarlyEnd.
-    for (int n : {100, 50})
-      for (unsigned s : p.seeds) {
-        Case c = make(base_name(n) + "_dt1.5us_seed" + std::to_string(s), "ensemble_reported", n, s);
-        c.dt = 1.5e-6;
-        v.push_back(c);
-      }
+    // The study's form of the pressure against the incremental one over a Δt ladder to kEarlyEnd.
     for (double dt : kFormDts)
       for (const char* form : {"study", "incremental"}) {
         char name[64];
@@ -225,7 +229,7 @@ std::vector<Case> cases(const Params& p) {
       }
   }
   if (p.quick) for (Case& c : v) c.reported = c.role == "study";
-  if (p.study_only && !p.quick) std::erase_if(v, [](const Case& c) { return !c.reported; });
+  if (p.study_only && !p.quick) std::erase_if(v, [](const Case& c) { return !c.reported && !c.read_only; });
   return v;
 }
 
@@ -274,9 +278,12 @@ CaseResult run_case(const Params& p, const Case& c) {
   r.length = scene.length;
   const fs::path out = fs::path(p.out_dir) / c.name;
   const case_runner::CaseRun run = case_runner::run_or_reuse(
-      scene, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse || p.collect, .collect = p.collect, .label = "cell_free_layer " + c.name});
+      scene, out.string(),
+      {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse || p.collect || c.read_only, .collect = p.collect || c.read_only,
+       .label = "cell_free_layer " + c.name});
   r.summary = run.summary;
   r.failure = run.failure;
+  r.code = run.code;
   if (r.failure == case_runner::kNotRun) return r;
   const std::string series = (out / "series.csv").string();
   if (!fs::exists(series)) {
@@ -288,7 +295,7 @@ CaseResult run_case(const Params& p, const Case& c) {
     r.repulsion_steps = nlohmann::json::parse(js).value("membrane_repulsion_steps", 0L);
   }
   r.t = csv_column(series, "t");
-  for (int k = 0; k < c.cells; ++k) {
+  for (int k = 0; k < c.cells && c.role == "convergence"; ++k) {  // the error-against-run-time table's
     const std::vector<double> x = csv_column(series, "cell" + std::to_string(k) + "_x"), y = csv_column(series, "cell" + std::to_string(k) + "_y");
     r.centroids_end.emplace_back(x.back(), y.back());
   }
@@ -305,7 +312,8 @@ CaseResult run_case(const Params& p, const Case& c) {
   r.hct = case_runner::window_mean(r.t, r.hematocrit, from);
   r.re = case_runner::window_mean(r.t, r.reynolds, from);
   const double window = p.quick ? r.t.back() / 2 : kProfileWindow;
-  hematocrit_profile((out / "snapshots.dat").string(), r.t.back() - window, scene.length, scene.height, scene.mesh_size, r.profile_y, r.profile);
+  if (fs::exists(out / "snapshots.dat"))  // (a kept run keeps none: paper/keep_evidence.sh)
+    hematocrit_profile((out / "snapshots.dat").string(), r.t.back() - window, scene.length, scene.height, scene.mesh_size, r.profile_y, r.profile);
   // The layer against time (Figs. 9-10's companion) and the profile, for plot.gp.
   std::ofstream f(fs::path(p.out_dir) / ("layer_" + c.name + ".dat"));
   f << "# " << c.cells << " cells s* = 0.7, arrangement seed " << c.seed << "\n# t (ms), gap lower wall (um), gap upper wall (um), mean (um), Hct (%), Re\n";
@@ -375,6 +383,60 @@ std::string ensemble_table(const Params& p, const Results& res) {
                     shown(ok(base + "_no_repulsion") ? -change(base + "_no_repulsion") : change(base + "_repulsion"), "%+.3g").c_str());
       md << row;
     }
+  }
+  return md.str();
+}
+
+// The study's form of the pressure against the incremental one with 100 cells over the Δt ladder
+// kFormDts to kEarlyEnd: the layer over [kEarlyFrom, kEarlyEnd] and Re over the last ms of each,
+// their difference at each Δt, and each form's Δt -> 0 limit by the least-squares estimator (the
+// four levels, first order): does the study's form converge to the other's answer?
+std::string form_table(const Results& res) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  auto name = [](const char* form, double dt) {
+    char b[64];
+    std::snprintf(b, sizeof b, "n100_early_%s_dt%gus", form, dt * 1e6);
+    return std::string(b);
+  };
+  auto layer = [&](const CaseResult& c) {
+    std::vector<double> v(c.t.size());
+    for (std::size_t k = 0; k < c.t.size(); ++k) v[k] = 0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6;
+    return case_runner::window_mean(c.t, v, kEarlyFrom);
+  };
+  std::ostringstream md;
+  bool any = false;
+  std::map<std::string, std::vector<double>> layers, res_;
+  for (double dt : kFormDts) {
+    const std::string a = name("study", dt), b = name("inc", dt);
+    if (!ok(a) && !ok(b)) continue;
+    if (!any)
+      md << "\nThe study's form of the pressure against the incremental form (100 cells, seed 1, h = 0.3125 um, from rest to " << kEarlyEnd * 1e3
+         << " ms): the layer (mean of the walls, um) over " << kEarlyFrom * 1e3 << "-" << kEarlyEnd * 1e3
+         << " ms and Re over the last ms:\n\n| dt (us) | layer, study's p | layer, incremental p | study − incremental | Re, study's p | Re, incremental p | study − incremental |\n"
+            "|---|---|---|---|---|---|---|\n";
+    any = true;
+    const double la = ok(a) ? layer(res.cases.at(a)) : NAN, lb = ok(b) ? layer(res.cases.at(b)) : NAN;
+    const double ra = ok(a) ? res.cases.at(a).re : NAN, rb = ok(b) ? res.cases.at(b).re : NAN;
+    if (ok(a)) { layers["study"].push_back(la); res_["study"].push_back(ra); }
+    if (ok(b)) { layers["inc"].push_back(lb); res_["inc"].push_back(rb); }
+    char row[300];
+    std::snprintf(row, sizeof row, "| %g | %s | %s | %s | %s | %s | %s |\n", dt * 1e6, shown(la, "%.3f").c_str(), shown(lb, "%.3f").c_str(),
+                  shown(la - lb, "%+.3f").c_str(), shown(ra, "%.4f").c_str(), shown(rb, "%.4f").c_str(), shown(ra - rb, "%+.4f").c_str());
+    md << row;
+  }
+  if (!any) return "";
+  // Each form's limit, where all four levels finished (finest first, ratio 2, formal order 1).
+  for (const auto& [what, by_form] : {std::pair{"layer (um)", &layers}, std::pair{"Re", &res_}}) {
+    const auto& st = by_form->find("study"), & in = by_form->find("inc");
+    if (st == by_form->end() || in == by_form->end() || st->second.size() < kFormDts.size() || in->second.size() < kFormDts.size()) continue;
+    const RefinementUncertainty us = grid_convergence_index(st->second, 2.0, 1.0), ui = grid_convergence_index(in->second, 2.0, 1.0);
+    const double gap = us.extrapolated - ui.extrapolated, reach = std::hypot(us.u, ui.u);
+    char line[500];
+    std::snprintf(line, sizeof line, "\n%s as dt -> 0: the study's form %.4g (U %.2g; %s), the incremental form %.4g (U %.2g; %s): %s by %+.3g, %s.\n", what,
+                  us.extrapolated, us.u, us.describe(2).c_str(), ui.extrapolated, ui.u, ui.describe(2).c_str(), "they differ", gap,
+                  std::abs(gap) <= reach ? "within their combined U: the study's form converges to the incremental form's answer"
+                                         : "beyond their combined U: the two forms do not reach the same answer at these Δt");
+    md << line;
   }
   return md.str();
 }
@@ -464,6 +526,104 @@ std::string convergence_table(const Params& p, const Results& res) {
 
 namespace {
 
+// A member's Re under each reading of U (reference-data/readings.csv), over its last ms.
+std::vector<std::pair<std::string, double>> re_readings(const Params& p, const CaseResult& c) {
+  return case_runner::u_readings((fs::path(p.out_dir) / c.spec.name / "series.csv").string(), c.t.back() - kWindow,
+                                 c.summary.reynolds / c.summary.mean_velocity);
+}
+
+// The names of the arrangements at the rows' Δt that finished: seed 1 (the reported run) first.
+std::vector<std::string> reported_members(const Params& p, const Results& res, const std::string& base) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  std::vector<std::string> v;
+  if (ok(base + "_dt1.5us")) v.push_back(base + "_dt1.5us");
+  for (unsigned s : p.seeds)
+    if (ok(base + "_dt1.5us_seed" + std::to_string(s))) v.push_back(base + "_dt1.5us_seed" + std::to_string(s));
+  return v;
+}
+
+// A chaotic row judged as a distribution (reference/reference_table.hpp): the layer (um) or Re of
+// every arrangement at the rows' Δt, their mean's u_num from their spread (s/√n) and the Δt part
+// from the arrangements that finished at both 1.5 and 3 us (the same starts: the means' step, its
+// noise the spread over √pairs); the h column from the 2h run.
+Measured ensemble_row(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  auto value = [&](const CaseResult& c) { return re ? c.re : c.layer * 1e6; };
+  Measured m{{}, {}, note};
+  std::vector<double> values;
+  for (const std::string& name : reported_members(p, res, base)) {
+    const CaseResult& c = res.cases.at(name);
+    m.ensemble.push_back({name, value(c), re ? re_readings(p, c) : std::vector<std::pair<std::string, double>>{}, c.code});
+    values.push_back(value(c));
+  }
+  if (values.size() >= 2) {
+    m.u.ensemble = sample_std(values);
+    m.u.members = int(values.size());
+    m.u.of_mean = true;
+  }
+  double fine = 0, coarse = 0;
+  int pairs = 0;
+  for (unsigned s = 1; s <= p.seeds.back(); ++s) {
+    const std::string tail = s == 1 ? "" : "_seed" + std::to_string(s);
+    const std::string a = base + "_dt1.5us" + tail, b = base + tail;
+    if (ok(a) && ok(b)) {
+      fine += value(res.cases.at(a));
+      coarse += value(res.cases.at(b));
+      ++pairs;
+    }
+  }
+  if (pairs > 0) {
+    m.u.dt = grid_convergence_index({fine / pairs, coarse / pairs}, 2.0, 1.0, 0, m.u.ensemble.value_or(NAN) / std::sqrt(double(pairs)));
+    m.u.dt->label = "dt 1.5/3 us, means of " + std::to_string(pairs) + " paired arrangements";
+  } else {
+    m.u.missing = "the arrangements at 3 us";
+  }
+  if (ok(base) && ok(base + "_h0.625um")) {
+    const auto h = grid_convergence_index({value(res.cases.at(base)), value(res.cases.at(base + "_h0.625um"))}, 2.0, 2.0);
+    char b[160];
+    std::snprintf(b, sizeof b, "h -> 0 moves seed 1 by %+.2g (the 2h run, second order)", h.extrapolated - value(res.cases.at(base)));
+    m.converged_in_h = b;
+  }
+  const CaseResult& r = res.cases.at(base + "_dt1.5us");
+  char how[300];
+  std::snprintf(how, sizeof how,
+                "the mean of %zu arrangements; semi-implicit coupling (not the study's explicit one), dt = %g us, h = %g um; incremental pressure "
+                "form (not the study's); %s; area term (7) during the flow",
+                values.size(), r.dt * 1e6, r.h * 1e6, r.spec.repulsion > 0 ? "membrane repulsion on (not in the study's model)" : "no repulsion");
+  m.how = how;
+  return m;
+}
+
+// The rows' arrangements for the figure: each member's row values and code, and the spread of
+// the layer over them against time (is it at its plateau: have the starts decorrelated?), on the
+// 1 ms grid every kept run has (paper/keep_evidence.sh).
+void write_ensemble_files(const Params& p, const Results& res, const std::string& base) {
+  const std::vector<std::string> names = reported_members(p, res, base);
+  if (names.empty()) return;
+  std::ofstream f(fs::path(p.out_dir) / ("ensemble_" + base + ".dat"));
+  f << "# the arrangements at the rows' Δt: index, seed, layer (um, mean of the walls, last ms), Re (its own reading), code (- : this build)\n";
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const CaseResult& c = res.cases.at(names[k]);
+    f << k + 1 << " " << c.spec.seed << " " << c.layer * 1e6 << " " << c.re << " " << (c.code.empty() ? "-" : c.code) << "\n";
+  }
+  std::ofstream g(fs::path(p.out_dir) / ("spread_" + base + ".dat"));
+  g << "# the layer (mean of the walls) over the " << names.size() << " arrangements at each ms: t (ms), mean (um), s (um), members\n";
+  const CaseResult& first = res.cases.at(names.front());
+  for (double ms = 0; ms <= first.t.back() * 1e3 + 1e-9; ms += 1) {
+    std::vector<double> at;
+    for (const std::string& name : names) {
+      const CaseResult& c = res.cases.at(name);
+      const std::size_t k = case_runner::sample_at(c.t, ms * 1e-3);
+      if (k == std::string::npos) continue;
+      at.push_back(0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6);
+    }
+    if (at.size() < 2) continue;
+    double mean = 0;
+    for (double v : at) mean += v / at.size();
+    g << ms << " " << mean << " " << sample_std(at) << " " << at.size() << "\n";
+  }
+}
+
 // A layer (um) or Re row with its u_num (issue 40): the Δt part from the scene's 3 us and the
 // halved run (two levels, first order, Fs 3), the arrangements' spread (the study's case and the
 // other seeds, at 3 us), the window noise of the reported run (the last 5 windows of 1 ms); the
@@ -474,6 +634,7 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
   auto value = [&](const CaseResult& c) { return re ? c.re : c.layer * 1e6; };
   const CaseResult& r = res.cases.at(reported);
   Measured m{value(r), {}, note};
+  if (reported == base + "_dt1.5us") return ensemble_row(p, res, base, re, note);
   std::vector<double> members;
   if (ok(base)) members.push_back(value(res.cases.at(base)));
   for (unsigned s : p.seeds)
@@ -541,15 +702,20 @@ Results run(const Params& p) {
     res.measured["cfl_" + tag] = with_uncertainty(p, res, name, reported, false, note);
     res.measured["re_" + tag] = with_uncertainty(p, res, name, reported, true, reported + ", mean over the last ms");
     // The row under each reading of U (reference-data/readings.csv), over the same last ms.
-    res.measured["re_" + tag].readings = case_runner::u_readings((fs::path(p.out_dir) / reported / "series.csv").string(),
-                                                                 r.t.back() - kWindow, r.summary.reynolds / r.summary.mean_velocity);
+    Measured& re_row = res.measured["re_" + tag];
+    re_row.readings = re_readings(p, r);
+    if (!re_row.ensemble.empty())  // an ensemble row: each reading's mean over the members
+      for (auto& [id, v] : re_row.readings)
+        v = ensemble_statistics(re_row.ensemble, 0, id).mean;
   }
+  if (!p.quick)
+    for (int n : {50, 100}) write_ensemble_files(p, res, base_name(n));
   {  // The runs the figures draw: each row's reported run (plot.gp).
     std::ofstream f(fs::path(p.out_dir) / "figure_runs.txt");
     for (int n : {50, 100}) f << base_name(n) << " " << reported_run(base_name(n)) << "\n";
   }
   if (!p.quick && !p.study_only) {  // the quick run has one arrangement and no evidence runs
-    res.ensemble_md = ensemble_table(p, res) + early_layer_table(res);
+    res.ensemble_md = ensemble_table(p, res) + early_layer_table(res) + form_table(res);
     std::ofstream(fs::path(p.out_dir) / "ensemble.md") << res.ensemble_md;
   }
   if (p.convergence && !p.quick && !p.study_only) {

@@ -121,6 +121,8 @@ struct Case {
   double margin = 0;              // m: the lattice's rows kept this far in from each wall (arrangement())
   std::string projection;         // "study" or "incremental" (ChannelFlowParams); empty: the scene file's
   bool reported = false;          // the run the study's rows and figures read (the finest Δt)
+  bool read_only = false;         // read back where finished or kept (paper/keep_evidence.sh),
+                                  // never run: the rows' ensemble under --study-only
 };
 
 struct Params {
@@ -148,6 +150,7 @@ Scene case_scene(const Case& c, bool quick);
 
 struct CaseResult {
   Case spec;
+  std::string code;  // the code that made a kept run (empty: this code)
   double h = 0, dt = 0, length = 0;  // m, s, m (the channel's, periodic)
   RunSummary summary;
   std::string failure;

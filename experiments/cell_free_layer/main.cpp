@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   if (!out.empty()) p.out_dir = out;
   try {
     if (list) {
-      for (const auto& c : rbc::cell_free_layer::cases(p)) std::printf("%s\n", c.name.c_str());
+      for (const auto& c : rbc::cell_free_layer::cases(p))
+        if (!c.read_only) std::printf("%s\n", c.name.c_str());
       return 0;
     }
     if (check && !p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (add --reuse after running the cases)");

@@ -89,6 +89,11 @@ std::string convergence_table(std::vector<ConvergenceRow> rows, const std::strin
   return md.str();
 }
 
+std::size_t sample_at(const std::vector<double>& t, double at, double half) {
+  const auto it = std::lower_bound(t.begin(), t.end(), at - half);
+  return it != t.end() && *it <= at + half ? std::size_t(it - t.begin()) : std::string::npos;
+}
+
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o) {
   CaseRun r;
   const fs::path out(out_dir);
@@ -110,6 +115,7 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
     }
     fs::remove(failed);
     const bool resume = o.resume && !done && fs::exists(out / "checkpoint.bin");
+    if (done) std::getline(std::ifstream(out / "code_id"), r.code);  // a kept run (paper/keep_evidence.sh)
     r.summary = done ? *done
                      : run_scene(scene, {.out_dir = out.string(), .threads = o.threads, .progress = o.progress, .label = o.label,
                                          .checkpoint_wall = 300, .resume = resume});

@@ -367,6 +367,51 @@ std::string reported_case(const Results& res, const std::string& base) {
 
 double row_value(const CaseResult& r, bool re) { return re ? r.reynolds : r.distance * 1e6; }
 
+// The paired starts of a case (kb1, kb1000) at the levels kPairedDts: the study's places (the
+// case's own Δt levels) and every seed that finished at all of them; each level's mean (finest
+// first) and the starts' spread pooled over the levels.
+struct PairedLevels {
+  std::vector<double> means;
+  double s = NAN;
+  int pairs = 0;  // perturbed starts besides the study's places
+  std::vector<std::vector<double>> values;  // [level][start], the study's places first
+};
+
+std::string level_name(const std::string& base, unsigned seed, double dt) {
+  char b[64];
+  if (seed == 0)
+    std::snprintf(b, sizeof b, "%s_dt%gus", base.c_str(), dt * 1e6);
+  else
+    std::snprintf(b, sizeof b, "%s_seed%u_dt%gus", base.c_str(), seed, dt * 1e6);
+  return b;
+}
+
+PairedLevels paired_levels(const Params& p, const Results& res, const std::string& base, bool re) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  PairedLevels v;
+  if (base != "kb1" && base != "kb1000") return v;
+  std::vector<unsigned> starts;
+  for (unsigned s : {0u})
+    if (std::all_of(kPairedDts.begin(), kPairedDts.end(), [&](double dt) { return ok(level_name(base, s, dt)); })) starts.push_back(s);
+  if (starts.empty()) return v;
+  for (unsigned s : p.paired_seeds)
+    if (std::all_of(kPairedDts.begin(), kPairedDts.end(), [&](double dt) { return ok(level_name(base, s, dt)); })) starts.push_back(s);
+  v.pairs = int(starts.size()) - 1;
+  double ss = 0;
+  int dof = 0;
+  for (double dt : kPairedDts) {
+    std::vector<double> at;
+    for (unsigned s : starts) at.push_back(row_value(res.cases.at(level_name(base, s, dt)), re));
+    const double mean = std::accumulate(at.begin(), at.end(), 0.0) / at.size();
+    for (double x : at) ss += (x - mean) * (x - mean);
+    dof += int(at.size()) - 1;
+    v.means.push_back(mean);
+    v.values.push_back(at);
+  }
+  if (dof > 0) v.s = std::sqrt(ss / dof);
+  return v;
+}
+
 // A distance (um) or Re row with its u_num: the Δt part (GCI over the finest three levels
 // that finished, first order), the start ensemble's spread (the k_b cells' or the disks' members
 // at 6 us, for every cell case), the window noise of the reported run (the last 5 windows of 1 ms);
@@ -404,7 +449,15 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
   if (members.size() < p.seeds.size() + 1 && !p.quick)
     m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the start ensemble (" + std::to_string(members.size()) + " of " +
                    std::to_string(p.seeds.size() + 1) + ")";
-  if (seq.size() >= 2) {
+  const PairedLevels paired = paired_levels(p, res, base, re);
+  if (paired.pairs >= 1) {
+    // Paired starts at every level: the level means' steps, their noise the starts' spread over √n.
+    const std::size_t at = std::find(kPairedDts.begin(), kPairedDts.end(), r.dt) - kPairedDts.begin();
+    m.u.dt = grid_convergence_index(paired.means, 2.0, 1.0, int(std::min<std::size_t>(at, kPairedDts.size() - 1)),
+                                    paired.s / std::sqrt(double(paired.pairs + 1)));
+    m.u.dt->label = "dt 0.75/1.5/3 us, means of " + std::to_string(paired.pairs + 1) + " paired starts";
+    m.u.missing.clear();
+  } else if (seq.size() >= 2) {
     // The start ensemble's spread tells the Δt fit which level differences are noise.
     m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported, m.u.ensemble.value_or(NAN));
     std::string label = "dt";
@@ -453,6 +506,70 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
 Measured row_of(const Results& res, const std::string& base, bool re) {
   const auto it = res.measured.find((re ? "re_" : "dist_") + base);
   return it == res.measured.end() ? Measured{} : it->second;
+}
+
+// The paired starts' table (each level's starts, mean and s; the fit of the means) and the study's
+// explicit scheme against the semi-implicit runs as trajectories (the mean distance of the four
+// cells from the centreline at common instants).
+std::string paired_table(const Params& p, const Results& res) {
+  std::ostringstream md;
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  md << "\nPaired starts over Δt (the study's places and the perturbed starts that finished at every level, the same starts at each Δt):\n\n"
+        "| case | Δt (us) | starts | values | mean | s |\n|---|---|---|---|---|---|\n";
+  for (const std::string base : {"kb1", "kb1000"})
+    for (const bool re : {false, true}) {
+      const PairedLevels v = paired_levels(p, res, base, re);
+      if (v.means.empty()) {
+        md << "| " << base << (re ? " Re" : " distance (um)") << " | - | the study's places not finished at every level | | | |\n";
+        continue;
+      }
+      for (std::size_t l = 0; l < v.means.size(); ++l) {
+        std::string values;
+        char b[48];
+        for (double x : v.values[l]) {
+          std::snprintf(b, sizeof b, "%s%.4f", values.empty() ? "" : " ", x);
+          values += b;
+        }
+        char row[400];
+        std::snprintf(row, sizeof row, "| %s %s | %g | %zu | %s | %.4f | %.4f |\n", base.c_str(), re ? "Re" : "distance (um)", kPairedDts[l] * 1e6,
+                      v.values[l].size(), values.c_str(), v.means[l], sample_std(v.values[l]));
+        md << row;
+      }
+    }
+  // The explicit scheme's trajectory against the semi-implicit Δt levels (the study's places).
+  if (ok("kb1_explicit")) {
+    const std::vector<double> at_ms = {1, 2, 5, 10, 20, 50, 100, 150, 200};
+    std::vector<std::string> runs = {"kb1_explicit"};
+    for (const std::string& level : dt_levels("kb1"))
+      if (ok(level)) runs.push_back(level);
+    md << "\nThe k_b cells by the study's explicit scheme (Δt = " << kExplicitDt * 1e9
+       << " ns, the study's form of the pressure) and by the semi-implicit coupling at each Δt: the mean distance from the centreline (um) "
+          "at each instant (the study's places):\n\n| t (ms) |";
+    for (const std::string& r : runs) md << " " << r << " |";
+    md << "\n|---|";
+    for (std::size_t k = 0; k < runs.size(); ++k) md << "---|";
+    md << "\n";
+    for (double ms : at_ms) {
+      char b[48];
+      std::snprintf(b, sizeof b, "| %g |", ms);
+      md << b;
+      for (const std::string& name : runs) {
+        const CaseResult& c = res.cases.at(name);
+        const std::size_t k = case_runner::sample_at(c.t, ms * 1e-3);
+        if (k == std::string::npos) {
+          md << " - |";
+          continue;
+        }
+        const auto& y = c.y[k];
+        double d = 0;
+        for (double yb : y) d += std::abs(yb - 25e-6) / 4;
+        std::snprintf(b, sizeof b, " %.4f |", d * 1e6);
+        md << b;
+      }
+      md << "\n";
+    }
+  }
+  return md.str();
 }
 
 std::string spread_table(const Params& p, const Results& res) {
@@ -758,7 +875,7 @@ Results run(const Params& p) {
     }
   }
   if (!p.study_only) {  // the ensemble and the Δt sequences are the evidence's
-    res.spread_md = spread_table(p, res);
+    res.spread_md = spread_table(p, res) + paired_table(p, res);
     std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
   }
   {  // The runs the figures draw: each case's reported run (plot.gp).

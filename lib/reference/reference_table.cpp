@@ -176,6 +176,24 @@ std::map<std::string, KnownDeviation> load_known_deviations(const std::string& p
   return out;
 }
 
+EnsembleStatistics ensemble_statistics(const std::vector<EnsembleMember>& members, double study, const std::string& chosen) {
+  EnsembleStatistics e;
+  for (const EnsembleMember& m : members) {
+    double v = m.value;
+    for (const auto& [id, value] : m.readings)
+      if (id == chosen) v = value;
+    e.values.push_back(v);
+  }
+  const double n = double(e.values.size());
+  if (e.values.empty()) return e;
+  for (double v : e.values) e.mean += v / n;
+  double ss = 0;
+  for (double v : e.values) ss += (v - e.mean) * (v - e.mean);
+  e.s = e.values.size() > 1 ? std::sqrt(ss / (n - 1)) : 0.0;
+  e.z = e.s > 0 ? (study - e.mean) / (e.s * std::sqrt(1 + 1 / n)) : NAN;
+  return e;
+}
+
 CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const std::map<std::string, Measured>& ours,
                                     const std::map<std::string, KnownDeviation>& deviations, bool at_study_parameters,
                                     const std::string& chosen) {
@@ -193,8 +211,41 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
     bool within = false, in_band = false, measured = false, undecided = false;
     if (r.kind == "context") {
       c.verdict = Verdict::Context;
-    } else if (it == ours.end() || (!it->second.value && !it->second.holds)) {
+    } else if (it == ours.end() || (!it->second.value && !it->second.holds && it->second.ensemble.empty())) {
       c.verdict = Verdict::NotRun;
+    } else if (r.kind == "number" && !it->second.ensemble.empty()) {
+      // A chaotic row judged as a distribution (the header's rule).
+      const Measured& m = it->second;
+      const EnsembleStatistics e = ensemble_statistics(m.ensemble, *r.value, chosen);
+      const std::optional<double> u = m.u.missing.empty() ? m.u.total() : std::nullopt;
+      const double allowed = allowed_difference(r), distance = std::abs(e.mean - *r.value), u_mean = u.value_or(INFINITY);
+      const bool enough = e.values.size() >= kEnsembleMinimum && e.s > 0;
+      c.ours = fmt(e.mean);
+      c.difference = fmt_difference(e.mean - *r.value);
+      c.u_num = u ? fmt_uncertainty(*u) : "not measured";
+      c.u_parts = m.u.describe();
+      c.how = m.how;
+      if (!chosen.empty() && !m.readings.empty()) c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
+      c.readings = format_readings(m.readings);
+      char z[200];
+      std::snprintf(z, sizeof z, "ensemble of %zu: mean %s, s %s, z = %s", e.values.size(), fmt(e.mean).c_str(), fmt(e.s).c_str(),
+                    std::isfinite(e.z) ? fmt_difference(e.z).c_str() : "-");
+      if (!enough) {
+        c.verdict = Verdict::Unresolved;
+        c.note = std::string(z) + ": fewer than " + std::to_string(kEnsembleMinimum) + " members finished, a distribution cannot decide";
+      } else if (std::abs(e.z) <= 2 && u && distance <= allowed + u_mean) {
+        const bool decided = u_mean <= allowed;
+        c.verdict = decided ? Verdict::Pass : Verdict::Unresolved;
+        c.note = std::string(z) + ": the study's value a likely member of ours, the mean within the tolerance's reach" +
+                 (decided ? "" : "; the mean's u_num " + c.u_num + " is larger than the tolerance: more members would decide");
+      } else if (!u) {
+        c.verdict = Verdict::Unresolved;
+        c.note = std::string(z) + ": the mean's u_num not measured (" + (m.u.missing.empty() ? std::string("no part") : m.u.missing) + ")";
+      } else {
+        c.verdict = known && !known->shown_by.empty() ? Verdict::Deviation : Verdict::Unexplained;
+        c.note = std::string(z) + (std::abs(e.z) > 2 ? ": the study's value is not a likely member of ours" : ": the mean is beyond the tolerance's reach") +
+                 (known ? (known->shown_by.empty() ? "; believed: " + known->cause : "; " + known->cause + " Shown by: " + known->shown_by + ".") : "");
+      }
     } else if (r.kind == "number") {
       double v = it->second.value.value_or(NAN);
       c.readings = format_readings(it->second.readings);

@@ -16,6 +16,15 @@
 //              (shown_by empty): what we believe is written beside it; counts as not reproduced;
 //   FAIL       outside the tolerance and not recorded, or recorded but outside the recorded band
 //              (the code changed the result).
+// A chaotic row (a crowd, whose single realisation moves with any change of its start) is judged
+// as a distribution instead (Measured::ensemble): the study's value is one realisation, ours the
+// n members' mean m and sample standard deviation s, z = (study − m) / (s √(1 + 1/n)) the study's
+// distance from our members in units of the spread a new member would have. With n ≥
+// kEnsembleMinimum members: where |z| ≤ 2 (the study's value is a likely member of ours) and the
+// mean is within the tolerance's reach, |m − study| ≤ T + u (u the mean's u_num: 2 s/√n with the
+// Δt part), PASS when u ≤ T and UNRESOLVED when u > T (more members would decide); otherwise
+// DEVIATION or UNEXPLAINED as above (never FAIL: no band is recorded for a distribution's mean).
+// Fewer members: UNRESOLVED. (The rule was set before any ensemble of six had run.)
 // The band is where our own value is expected from its measured h/Δt error or ensemble spread,
 // not from the distance to the study. Only FAIL makes --check exit 1. A DEVIATION or UNEXPLAINED
 // row never hides the distance: study, ours and ours − study are printed on every row, the cause
@@ -78,6 +87,16 @@ std::string known_deviations_path(const std::string& name);
 
 // What an experiment measured for a row: a number (in the row's unit) or a claim's truth, with
 // a short note (e.g. the measured times behind a claim).
+// One realisation of a chaotic row: the case that ran it, its value (the row's unit) and its
+// value under each reading, the code that made it (empty: the code of this build).
+struct EnsembleMember {
+  std::string name;
+  double value = 0;
+  std::vector<std::pair<std::string, double>> readings = {};
+  std::string code = {};
+};
+inline constexpr std::size_t kEnsembleMinimum = 6;
+
 struct Measured {
   std::optional<double> value;
   std::optional<bool> holds;
@@ -88,7 +107,17 @@ struct Measured {
   // The row's value under each reading of the study's words (reading id, value in the row's unit),
   // each measured from the field; empty for rows no reading touches.
   std::vector<std::pair<std::string, double>> readings = {};
+  // A chaotic row's members (above): the row's value is their mean, judged by z.
+  std::vector<EnsembleMember> ensemble = {};
 };
+
+// The members' values under the reading `chosen` (their own value where it is not measured),
+// their mean, sample standard deviation (0 for one member) and z of `study` (NaN when s = 0).
+struct EnsembleStatistics {
+  std::vector<double> values;
+  double mean = 0, s = 0, z = 0;
+};
+EnsembleStatistics ensemble_statistics(const std::vector<EnsembleMember>& members, double study, const std::string& chosen = "");
 
 // One reading of an ambiguous sentence of the study (reference-data/readings.csv): id, what it
 // measures, and whether it is the one chosen for the whole study.

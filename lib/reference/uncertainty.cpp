@@ -333,7 +333,8 @@ std::optional<double> NumericalUncertainty::total() const {
   };
   auto twice = [](std::optional<double> x) { return x ? std::optional<double>(2 * *x) : x; };
   if (dt) add(dt->u);
-  add(twice(ensemble));  // 1σ parts at 95 %: k = 2
+  const double per = of_mean && members > 0 ? 1 / std::sqrt(double(members)) : 1.0;  // a mean's: s/√n
+  add(ensemble ? std::optional<double>(2 * per * *ensemble) : ensemble);  // 1σ parts at 95 %: k = 2
   add(twice(window));
   add(other_value);
   if (!any) return std::nullopt;
@@ -347,7 +348,8 @@ std::string NumericalUncertainty::describe(int digits) const {
     s += p;
   };
   if (dt) part(dt->describe(digits));
-  if (ensemble && std::isfinite(*ensemble)) part(std::string("ensemble of ").append(std::to_string(members)).append(": s ").append(g(*ensemble, digits)).append(" (2 s at 95 %)"));
+  if (ensemble && std::isfinite(*ensemble))
+    part(std::string("ensemble of ").append(std::to_string(members)).append(": s ").append(g(*ensemble, digits)).append(of_mean ? " (their mean: 2 s/√n at 95 %)" : " (2 s at 95 %)"));
   if (window && std::isfinite(*window)) part(std::string("window noise ").append(g(*window, digits)).append(" (x2)"));
   if (!missing.empty()) part("missing: " + missing);
   if (!other.empty()) {

@@ -114,14 +114,15 @@ struct NumericalUncertainty {
   std::optional<RefinementUncertainty> dt;  // at 95 % already
   std::optional<double> ensemble;  // s of the start ensemble (1σ)
   int members = 0;
+  bool of_mean = false;            // the value is the members' mean: its part is s/√members
   std::optional<double> window;    // the averaging window's noise (1σ)
   std::string other;               // a part named in words (e.g. "area drift 0.0003 %")
   std::optional<double> other_value;  // taken as given
   std::string missing;             // parts whose evidence runs did not finish: u_num is incomplete
                                    // and the verdict treats it as not measured
   std::string provenance;          // where parts read back from a record were measured (commit, source)
-  // u_num at 95 %: sqrt(U_Δt² + (2 s)² + (2 u_w)² + u_o²) over the parts measured; empty when
-  // none is.
+  // u_num at 95 %: sqrt(U_Δt² + (2 s)² + (2 u_w)² + u_o²) over the parts measured (2 s/√members
+  // for a mean); empty when none is.
   std::optional<double> total() const;
   std::string describe(int digits = 2) const;
 };
