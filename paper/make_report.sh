@@ -396,6 +396,7 @@ out="$report/README.md.tmp"
   [ "$invocations" -gt 1 ] && echo "| invocations | $invocations at this code (interrupted and continued, or read back; this one $wall_all s) |"
   [ "$COLLECT" != "1" ] && [ "$read_back" -gt 0 ] && echo "| cases read back | $read_back of $total, finished at this code before this invocation: by an earlier invocation of this command (their time then in the wall time above) or by another command such as make evidence (then only in their experiment's row) |"
   [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
+  [ "$restored" -gt 0 ] && echo "| kept runs | $restored case(s) read from paper/evidence/data/ (paper/keep_evidence.sh), each made by the code its table names |"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
     echo

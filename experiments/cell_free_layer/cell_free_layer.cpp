@@ -594,6 +594,36 @@ Measured ensemble_row(const Params& p, const Results& res, const std::string& ba
   return m;
 }
 
+// The rows' arrangements at their Δt as a table: each member's layer and Re (its own reading; the
+// rows read every member under the chosen one), the code that made it, mean and s.
+std::string rows_ensemble_table(const Params& p, const Results& res) {
+  std::ostringstream md;
+  for (int n : {50, 100}) {
+    const std::vector<std::string> names = reported_members(p, res, base_name(n));
+    if (names.empty()) continue;
+    if (md.tellp() == 0)
+      md << "\nThe rows' arrangements at Δt = 1.5 us (the distributions the rows are judged by: cell_free_layer_ensemble.png; seed 1 is the "
+            "study's case), each with the code that made it (\"this\": the report's; else kept in paper/evidence/data/):\n\n"
+            "| cells | case | seed | layer (um) | Re | code |\n|---|---|---|---|---|---|\n";
+    std::vector<double> layers, re;
+    for (const std::string& name : names) {
+      const CaseResult& c = res.cases.at(name);
+      layers.push_back(c.layer * 1e6);
+      re.push_back(c.re);
+      char row[300];
+      std::snprintf(row, sizeof row, "| %d | %s | %u | %.3f | %.4f | %s |\n", n, name.c_str(), c.spec.seed, c.layer * 1e6, c.re,
+                    c.code.empty() ? "this" : c.code.substr(0, c.code.find('\n')).c_str());
+      md << row;
+    }
+    char row[200];
+    std::snprintf(row, sizeof row, "| %d | mean of %zu (s) | | %.3f (%s) | %.4f (%s) | |\n", n, names.size(),
+                  std::accumulate(layers.begin(), layers.end(), 0.0) / layers.size(), shown(sample_std(layers), "%.3f").c_str(),
+                  std::accumulate(re.begin(), re.end(), 0.0) / re.size(), shown(sample_std(re), "%.4f").c_str());
+    md << row;
+  }
+  return md.str();
+}
+
 // The rows' arrangements for the figure: each member's row values and code, and the spread of
 // the layer over them against time (is it at its plateau: have the starts decorrelated?), on the
 // 1 ms grid every kept run has (paper/keep_evidence.sh).
@@ -715,7 +745,7 @@ Results run(const Params& p) {
     for (int n : {50, 100}) f << base_name(n) << " " << reported_run(base_name(n)) << "\n";
   }
   if (!p.quick && !p.study_only) {  // the quick run has one arrangement and no evidence runs
-    res.ensemble_md = ensemble_table(p, res) + early_layer_table(res) + form_table(res);
+    res.ensemble_md = ensemble_table(p, res) + rows_ensemble_table(p, res) + early_layer_table(res) + form_table(res);
     std::ofstream(fs::path(p.out_dir) / "ensemble.md") << res.ensemble_md;
   }
   if (p.convergence && !p.quick && !p.study_only) {

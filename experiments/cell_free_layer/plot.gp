@@ -114,6 +114,31 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
        sel("explicit + incremental p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 6 title 'explicit, incremental p, h = 0.3125 um'
 }
 
+# The rows as distributions (reference/reference_table.hpp): each arrangement at the rows' Δt and
+# the study's value, per crowd; beside it the arrangements' spread against time (its plateau: the
+# starts have decorrelated). Drawn where ensemble_n50.dat or ensemble_n100.dat has two members.
+members(n) = int(system(sprintf("grep -vc '^#' %s/ensemble_n%s.dat 2>/dev/null || echo 0", dir, n)))
+if (members('50') > 1 || members('100') > 1) {
+  set datafile separator whitespace
+  unset logscale; unset format; set format y '%g'
+  set terminal pngcairo size 1200, 520 font ',11'
+  set output figdir.'/cell_free_layer_ensemble.png'
+  set multiplot layout 1,2 title 'The crowds as distributions: every arrangement at the rows'' Δt'
+  set title 'Cell-free layer over the last ms (mean of the walls)'
+  set xlabel 'arrangement (seed)'; set ylabel 'cell-free layer (um)'
+  set autoscale; set xrange [0:7]; set yrange [0:*]
+  set key below maxcols 2
+  ref = system('dirname '.ARG0).'/../../reference-data/cell_free_layer.csv'
+  study(id) = real(system(sprintf("awk -F, '$1 == \"%s\" {print $3}' %s", id, ref)))
+  plot for [n in "50 100"] dir.'/ensemble_n'.n.'.dat' using 2:3 with points pt 7 ps 1.4 lc (n eq '50' ? 1 : 2) title n.' cells, ours', \
+       for [n in "50 100"] study('cfl_'.n) with lines dt 2 lw 2 lc (n eq '50' ? 1 : 2) title 'study, '.n.' cells'
+  set title 'Spread of the layer over the arrangements against time'
+  set xlabel 't (ms)'; set ylabel 's over the arrangements (um)'
+  set autoscale; set yrange [0:*]
+  plot for [n in "50 100"] dir.'/spread_n'.n.'.dat' using 1:3 with lines lw 2 lc (n eq '50' ? 1 : 2) title n.' cells'
+  unset multiplot
+}
+
 # The movie: the 100 cells, the reported run (experiments/common/movie.gp).
 movie_files = sprintf('%s/%s/frames.dat', dir, run('n100'))
 if (system('test -s '.movie_files.' && echo 1') eq '1') {
