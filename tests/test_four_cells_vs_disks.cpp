@@ -13,6 +13,7 @@
 #include <string>
 
 #include "four_cells_vs_disks/four_cells_vs_disks.hpp"
+#include "io/csv.hpp"
 
 namespace rbc {
 namespace {
@@ -152,6 +153,25 @@ TEST(FourCellsVsDisksExperiment, CasesThroughGnuParallelGiveTheTableOfOneProcess
     EXPECT_TRUE(fs::exists(par / fig)) << fig;
   fs::remove_all(one);
   fs::remove_all(par);
+}
+
+// The disk's migration-rate rows read Pan & Glowinski's trajectory at its digitized points: each
+// row's value is the point nearest its nominal distance travelled, to the row's 4 digits.
+TEST(FourCellsVsDisksExperiment, DiskTrajectoryRowsAreTheirDigitizedPoints) {
+  const auto points = read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"});
+  ASSERT_GE(points.size(), 10u);
+  const auto rows = load_reference_table(reference_table_path("disk_validation"));
+  for (const auto& [id, nominal] : kValidationTravel) {
+    const auto row = std::find_if(rows.begin(), rows.end(), [&](const ReferenceRow& r) { return r.id == id; });
+    ASSERT_NE(row, rows.end()) << id;
+    double s = NAN, x2 = NAN;
+    for (const CsvRecord& p : points)
+      if (std::isnan(s) || std::abs(csv_number(p, 0, "s_over_W") - nominal) < std::abs(s - nominal)) {
+        s = csv_number(p, 0, "s_over_W");
+        x2 = csv_number(p, 1, "x2_over_W");
+      }
+    EXPECT_NEAR(*row->value, x2, 5e-5) << id;
+  }
 }
 
 }  // namespace

@@ -286,12 +286,13 @@ CaseResult run_case(const Params& p, const Case& c) {
   }
   r.t = csv_column(series, "t");
   const std::size_t n = r.t.size();
-  if (c.role == "validation") {  // one disk: its height over the width
-    const auto y = csv_column(series, "disk0_y");
+  if (c.role == "validation") {  // one disk: its height over the width (and x1: its travel)
+    const auto x = csv_column(series, "disk0_x"), y = csv_column(series, "disk0_y");
     r.x.assign(n, {});
     r.y.assign(n, {});
     std::vector<double> frac(n);
     for (std::size_t k = 0; k < n; ++k) {
+      r.x[k][0] = x[k];
       r.y[k][0] = y[k];
       frac[k] = y[k] / scene.height;
     }
@@ -366,6 +367,42 @@ std::string reported_case(const Results& res, const std::string& base) {
 }
 
 double row_value(const CaseResult& r, bool re) { return re ? r.reynolds : r.distance * 1e6; }
+
+// One disk's height over the width W when its centre has travelled s W along the channel (its x1
+// unwrapped over the period), linearly between samples; NaN if the run ended before.
+double height_after_travel(const CaseResult& r, double s, double W) {
+  const double L = r.length;
+  double travelled = 0, before = 0;
+  for (std::size_t k = 1; k < r.t.size(); ++k) {
+    double dx = r.x[k][0] - r.x[k - 1][0];
+    dx -= L * std::round(dx / L);
+    before = travelled;
+    travelled += dx;
+    if (travelled >= s * W) {
+      const double f = (s * W - before) / (travelled - before);
+      return ((1 - f) * r.y[k - 1][0] + f * r.y[k][0]) / W;
+    }
+  }
+  return NAN;
+}
+
+// Our finest disk run's trajectory against Pan & Glowinski's, point by point (their points as
+// digitized, reference-data/disk_validation_trajectory.csv), for the evidence report.
+std::string validation_trajectory_table(const Results& res, const std::string& run) {
+  const auto it = res.cases.find(run);
+  if (it == res.cases.end() || !it->second.failure.empty()) return "";
+  std::ostringstream md;
+  md << "\nThe disk's trajectory against theirs (" << run << "): x2/W after s W travelled; their points as digitized "
+        "(reference-data/disk_validation_trajectory.csv):\n\n| s/W | theirs | ours | ours − theirs |\n|---|---|---|---|\n";
+  for (const CsvRecord& rec : read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"})) {
+    const double s = csv_number(rec, 0, "s_over_W"), theirs = csv_number(rec, 1, "x2_over_W");
+    const double ours = height_after_travel(it->second, s, 50e-6);
+    char row[160];
+    std::snprintf(row, sizeof row, "| %.3f | %.4f | %.4f | %+.4f |\n", s, theirs, ours, ours - theirs);
+    md << row;
+  }
+  return md.str();
+}
 
 // The paired starts of a case (kb1, kb1000) at the levels kPairedDts: the study's places (the
 // case's own Δt levels) and every seed that finished at all of them; each level's mean (finest
@@ -819,20 +856,29 @@ Results run(const Params& p) {
     const bool with_s07 = holds && ok(rep("s07")) && res.cases.at(rep("s07")).stagger >= 2 * kDiskRadius;
     if (!p.quick && all_present) res.measured["staggered"] = {{}, holds, s + " um; by the first criterion (s* = 0.7 judged too): " + (with_s07 ? "holds" : "does not hold")};
   }
+  std::string trajectory_md;
   // Our disk against Pan & Glowinski (2002): the finest run (h = W/128, Δt = 1.25e-8 s), with its
   // whole numerical uncertainty — here the mesh is ours to answer for (their mesh is not ours):
   // Δt by the GCI over the finest three Δt that finished, h by the GCI over W/128, W/64, W/32 at
   // 1.25e-8 s (first order: the collocation points follow the mesh, about h apart), the window.
-  {
-    auto val = [&](double n, double dt) -> std::optional<double> {
+  // Measured twice: the settled height, and the height after s W travelled at their trajectory's
+  // points (the migration's rate, reference-data/disk_validation_trajectory.csv).
+  if (!p.quick) {
+    auto pg_name = [](double n, double dt) {
       char name[64];
       std::snprintf(name, sizeof name, "pg2002_h%g_dt%g", n, dt);
-      if (!ok(name)) return std::nullopt;
-      return res.cases.at(name).distance;
+      return std::string(name);
     };
-    const double finest = val(128, 1.25e-8) ? 1.25e-8 : 2.5e-8;
-    if (const auto fine = val(128, finest)) {
-      Measured m{*fine, {}, "x2 / W of the disk centre over the last 0.1 ms before 1.2 ms (about 55 W travelled)"};
+    const double finest = ok(pg_name(128, 1.25e-8)) ? 1.25e-8 : 2.5e-8;
+    auto measure = [&](auto value, const std::string& note) -> std::optional<Measured> {
+      auto val = [&](double n, double dt) -> std::optional<double> {
+        if (!ok(pg_name(n, dt))) return std::nullopt;
+        const double v = value(res.cases.at(pg_name(n, dt)));
+        return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+      };
+      const auto fine = val(128, finest);
+      if (!fine) return std::nullopt;
+      Measured m{*fine, {}, note};
       std::vector<double> dts, hs;
       std::string label = "dt";
       for (double dt : {1.25e-8, 2.5e-8, 5e-8, 1e-7})
@@ -862,20 +908,34 @@ Results run(const Params& p) {
         std::snprintf(limit, sizeof limit, "in u_num (ours to answer for here): h -> 0 gives %.4f", h.extrapolated);
         m.converged_in_h = limit;
       }
-      char fine_name[64];
-      std::snprintf(fine_name, sizeof fine_name, "pg2002_h128_dt%g", finest);
-      const CaseResult& r = res.cases.at(fine_name);
-      std::vector<double> frac(r.t.size());
-      for (std::size_t k = 0; k < r.t.size(); ++k) frac[k] = r.y[k][0] / 50e-6;
-      m.u.window = window_noise(r.t, frac, kValidationWindow, 5);
       char how[160];
       std::snprintf(how, sizeof how, "one rigid disk (DLM, step 4), study's pressure form, h = W/128, dt = %g us, from rest", finest * 1e6);
       m.how = how;
-      if (!p.quick) res.validation["pg2002_equilibrium"] = m;
+      return m;
+    };
+    if (auto m = measure([](const CaseResult& c) { return c.distance; },
+                         "x2 / W of the disk centre over the last 0.1 ms before 1.2 ms (about 55 W travelled)")) {
+      const CaseResult& r = res.cases.at(pg_name(128, finest));
+      std::vector<double> frac(r.t.size());
+      for (std::size_t k = 0; k < r.t.size(); ++k) frac[k] = r.y[k][0] / 50e-6;
+      m->u.window = window_noise(r.t, frac, kValidationWindow, 5);
+      res.validation["pg2002_equilibrium"] = *m;
     }
+    // The digitized point nearest each row's nominal s (the row's value is that point's x2/W).
+    const auto points = read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"});
+    for (const auto& [id, nominal] : kValidationTravel) {
+      double travelled = NAN;
+      for (const CsvRecord& rec : points)
+        if (std::isnan(travelled) || std::abs(csv_number(rec, 0, "s_over_W") - nominal) < std::abs(travelled - nominal))
+          travelled = csv_number(rec, 0, "s_over_W");
+      char note[160];
+      std::snprintf(note, sizeof note, "x2 / W of the disk centre when it has travelled %.3f W along the channel (interpolated between samples)", travelled);
+      if (auto m = measure([&](const CaseResult& c) { return height_after_travel(c, travelled, 50e-6); }, note)) res.validation[id] = *m;
+    }
+    trajectory_md = validation_trajectory_table(res, pg_name(128, finest));
   }
   if (!p.study_only) {  // the ensemble and the Δt sequences are the evidence's
-    res.spread_md = spread_table(p, res) + paired_table(p, res);
+    res.spread_md = spread_table(p, res) + paired_table(p, res) + trajectory_md;
     std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
   }
   {  // The runs the figures draw: each case's reported run (plot.gp).

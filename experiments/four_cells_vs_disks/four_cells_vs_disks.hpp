@@ -79,6 +79,10 @@ inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 5e-3;
 // the disk's height over the width, averaged over the last kValidationWindow.
 inline constexpr double kValidationWindow = 1e-4;  // s (about 5 W travelled)
 inline const std::string kValidationScene = "one_disk_pan_glowinski_2002.toml";
+// The migration's rate against theirs: rows of disk_validation.csv read at the digitized point of
+// their trajectory nearest each nominal distance travelled (in W), mid-way down and near the end
+// of the approach (reference-data/disk_validation_trajectory.csv).
+inline const std::vector<std::pair<std::string, double>> kValidationTravel = {{"pg2002_x2_s5", 5.0}, {"pg2002_x2_s10", 10.0}};
 // Error against run time: from rest to kConvTime (a whole number of every Δt of the study:
 // 1.2 ms = 100 x 12 us = 48000 x 25 ns, so that all runs compare at the same instant).
 inline constexpr double kConvTime = 1.2e-3;
