@@ -9,6 +9,8 @@
 #include <numbers>
 #include <random>
 
+#include <omp.h>
+
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
@@ -430,6 +432,53 @@ TEST(SemiImplicit, GmresGoingOnWithFreshBlocksGivesTheSameSteps) {
     EXPECT_LT(d0, 1e-3 * moved) << "cell " << c;
     EXPECT_LT(d2, 1e-3 * moved) << "cell " << c;
   }
+}
+
+TEST(SemiImplicit, AThreadTeamSmallerThanAskedForSpreadsEveryCell) {
+  // The runtime may give a parallel region fewer threads than omp_get_max_threads() (OMP_DYNAMIC,
+  // OMP_THREAD_LIMIT, a nested region): here three threads are asked for inside an active region
+  // of two (one runs the cells, the other waits) with nesting off, so every inner region gets a
+  // team of one. The cells' run must then be the one-thread run, bit for bit (the work
+  // divided among the team the runtime gave, not among the threads asked for: before, the cells
+  // of the missing threads were never spread).
+  // Two of the cells, 10 um apart, long axes along x1: wider than half a spreading slab, so the
+  // products spread through the per-thread arrays.
+  Scene s = three_cells(0.25e-6, 1e-6, 20, 2);
+  s.cells.resize(2);
+  s.cells[0].center = {5e-6, 4e-6};
+  s.cells[1].center = {15e-6, 6e-6};
+  for (auto& c : s.cells) c.angle = 0;
+  const int max_threads = omp_get_max_threads(), levels = omp_get_max_active_levels();
+  auto run = [&]() {
+    Simulation sim(s);
+    advance(sim, 20);
+    return sim.cells();
+  };
+  omp_set_num_threads(1);
+  const std::vector<Cell> one = run();
+  omp_set_num_threads(3);
+  omp_set_max_active_levels(1);
+  std::vector<Cell> limited;
+  std::string failure;
+  int outer = 0;
+#pragma omp parallel num_threads(2)
+  {
+    if (omp_get_thread_num() == 0) {
+      outer = omp_get_num_threads();
+      try {
+        limited = run();
+      } catch (const std::exception& e) {  // (an exception may not leave the region)
+        failure = e.what();
+      }
+    }
+  }
+  EXPECT_EQ(failure, "");
+  omp_set_max_active_levels(levels);
+  omp_set_num_threads(max_threads);
+  if (outer < 2) GTEST_SKIP() << "the runtime gave the outer region one thread: no smaller team to test";
+  ASSERT_EQ(limited.size(), one.size());
+  for (std::size_t c = 0; c < one.size(); ++c)
+    for (std::size_t i = 0; i < one[c].nodes.size(); ++i) ASSERT_EQ(limited[c].nodes[i], one[c].nodes[i]) << "cell " << c << " node " << i;
 }
 
 // Three cells 5 um apart in the narrow channel, 150 steps of 1e-6 s, solved once with the

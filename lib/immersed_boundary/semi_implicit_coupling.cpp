@@ -86,21 +86,26 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
     }
   } else {
     // Otherwise each thread spreads its share of the cells (a fixed share: the sum is the same
-    // from run to run for a given thread count) into its own arrays, added in thread order.
+    // from run to run for a given thread count) into its own arrays, added in thread order. The
+    // shares are of the team the runtime gives (OMP_DYNAMIC, OMP_THREAD_LIMIT or a nested region
+    // may give fewer threads than asked for): every cell is spread, and only the arrays the team
+    // filled are added.
     const int threads = std::max(1, std::min(omp_get_max_threads(), ncells));
     const std::size_t size = std::size_t(nx) * (ny - 1);
     if (int(thread_rhs_.size()) != threads - 1) thread_rhs_.assign(threads - 1, std::vector<double>(2 * size));
+    int team = 1;
 #pragma omp parallel num_threads(threads)
     {
-      const int t = omp_get_thread_num();
+      const int t = omp_get_thread_num(), n = omp_get_num_threads();
+      if (t == 0) team = n;
       double* g1 = t == 0 ? f1 : thread_rhs_[t - 1].data();
       double* g2 = t == 0 ? f2 : thread_rhs_[t - 1].data() + size;
       if (t > 0) std::fill(thread_rhs_[t - 1].begin(), thread_rhs_[t - 1].end(), 0.0);
-      for (int c = t * ncells / threads; c < (t + 1) * ncells / threads; ++c) spread(c, g1, g2);
+      for (int c = t * ncells / n; c < (t + 1) * ncells / n; ++c) spread(c, g1, g2);
     }
 #pragma omp parallel for schedule(static)
     for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(size); ++k)
-      for (int t = 1; t < threads; ++t) {
+      for (int t = 1; t < team; ++t) {
         f1[k] += thread_rhs_[t - 1][k];
         f2[k] += thread_rhs_[t - 1][size + k];
       }
