@@ -277,6 +277,27 @@ TEST(MembraneCrossing, IsFoundAcrossThePeriodicBoundaryAndForUnwrappedNodes) {
   EXPECT_FALSE(find_membrane_crossing(m, 0.0).has_value());
 }
 
+TEST(MembraneCrossing, AMembraneThatCrossesItselfIsFoundAndNeighbouringSegmentsAreNot) {
+  const double R = 2.8e-6, L = 20e-6;
+  // A circle: its neighbouring segments meet at their shared nodes, which is not a crossing.
+  const Points round = circle_at({5e-6, 5e-6}, R);
+  EXPECT_FALSE(membrane_crosses_itself(round).has_value());
+  EXPECT_FALSE(find_membrane_crossing(std::vector<Points>{round}, L).has_value());
+  // Another circle (apart from the first) with nodes 10 .. 28 reflected through its horizontal
+  // diameter: that arc folds across the lower one.
+  Points folded = circle_at({12e-6, 5e-6}, R);
+  for (int i = 10; i <= 28; ++i) folded[i].y() = 2 * 5e-6 - folded[i].y();
+  const auto c = membrane_crosses_itself(folded);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_LT(c->segment_a, c->segment_b);
+  EXPECT_GT(c->segment_b, c->segment_a + 1);  // not neighbours
+  // In a set of membranes: reported as the cell with itself, before any pair.
+  const auto f = find_membrane_crossing(std::vector<Points>{round, folded}, L);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->cell_a, 1u);
+  EXPECT_EQ(f->cell_b, 1u);
+}
+
 TEST(MembraneCrossing, TheHealthCheckStopsARunWhoseMembranesCross) {
   // Two s* = 1 cells placed apart (the scene accepts them), then cell 1's nodes moved by hand to
   // cross cell 0: check_health names the crossing; placed apart, it passes.

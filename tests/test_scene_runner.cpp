@@ -121,6 +121,9 @@ TEST(SceneInput, ValuesOutOfRangeOrOfTheWrongTypeAreRejected) {
   expect_error(scene_error(replace(kGood, "length = 4e-6", "length = nan")), {"[channel] length", "out of range"});
   expect_error(scene_error(replace(kGood, "reynolds = 0.1", "reynolds = 0.1\nbody_force = 3.0")), {"not both"});
   expect_error(scene_error(replace(kGood, "end = 2e-6", "end = 1e-8")), {"[time] end", "at least one time step"});
+  // A step count beyond kMaxSteps is a unit slip (before: lround overflowed into a run of no steps).
+  expect_error(scene_error(kGood, {"time.dt=1e-300"}), {"[time]", "end / dt = 2e+294 steps", "units of [time] dt and end"});
+  expect_error(scene_error(replace(kGood, "[output]", "[solver]\ncg_max_iterations = 0\n[output]")), {"[solver] cg_max_iterations", "out of range"});
   expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = 1")), {"[output] vtk", "true or false"});
   expect_error(scene_error(replace(kGood, "[output]", "[output]\nvtk = true\nvtk_every = 1e-7")),
                {"[output] vtk_every", "1e-07 s", "at least [output] every = 5e-07 s"});

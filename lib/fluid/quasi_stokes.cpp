@@ -145,6 +145,7 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
     }
   }
   rep.residual = rnorm / bnorm;
+  rep.converged = rnorm <= target;
   remove_mean(p);
   add_pressure_gradient(u, p, rho, dt, u);
   return rep;

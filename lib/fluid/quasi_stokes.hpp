@@ -27,6 +27,10 @@ PressurePreconditioner parse_pressure_preconditioner(const std::string& name);  
 struct ProjectionReport {
   int iterations = 0;
   double residual = 0;  // ‖r‖ / ‖b‖ at exit (NaN with the exact Schur solve: not measured)
+  // Whether the CG reached its tolerance (the exact Schur solve and a divergence already at
+  // round-off always do); false after max_iterations or a breakdown short of it: the pressure
+  // is then not the step's, and the run stops (Simulation::check_health).
+  bool converged = true;
 };
 
 class QuasiStokesProjection {

@@ -38,6 +38,16 @@ bool boxes_overlap(const Box& a, const Box& b, double shift) {
   return a.x0 <= b.x1 + shift && b.x0 + shift <= a.x1 && a.y0 <= b.y1 && b.y0 <= a.y1;
 }
 
+// Where segment p → q meets segment r → s, if they do: p, q on opposite sides of r → s (or on it)
+// and r, s on opposite sides of p → q (or on it).
+std::optional<Eigen::Vector2d> segments_cross(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r,
+                                              const Eigen::Vector2d& s) {
+  const double o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
+  if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0) || (o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) return std::nullopt;
+  const double den = o3 - o4;  // p + t (q − p) with t = o3 / (o3 − o4) on r → s
+  return den != 0 ? Eigen::Vector2d(p + (o3 / den) * (q - p)) : p;
+}
+
 }  // namespace
 
 std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b, double L) {
@@ -69,27 +79,40 @@ std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b
     const double sy0 = std::min(p.y(), q.y()), sy1 = std::max(p.y(), q.y());
     for (std::size_t j : sb) {
       const Eigen::Vector2d r = b[j] + e1, s = b[(j + 1) % nb] + e1;
-      // Segment boxes first (cheap), then the orientation test: p, q on opposite sides of r → s
-      // (or on it) and r, s on opposite sides of p → q (or on it).
+      // Segment boxes first (cheap), then the orientation test.
       if (std::max(r.x(), s.x()) < sx0 || std::min(r.x(), s.x()) > sx1 || std::max(r.y(), s.y()) < sy0 ||
           std::min(r.y(), s.y()) > sy1)
         continue;
-      const double o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
-      if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0) || (o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) continue;
-      MembraneCrossing c;
-      c.segment_a = i;
-      c.segment_b = j;
-      const double den = o3 - o4;  // p + t (q − p) with t = o3 / (o3 − o4) on r → s
-      c.point = den != 0 ? Eigen::Vector2d(p + (o3 / den) * (q - p)) : p;
-      return c;
+      if (const auto at = segments_cross(p, q, r, s)) return MembraneCrossing{0, 0, i, j, *at};
+    }
+  }
+  return std::nullopt;
+}
+
+std::optional<MembraneCrossing> membrane_crosses_itself(const Points& a) {
+  const std::size_t n = a.size();
+  if (n < 4) return std::nullopt;
+  for (std::size_t i = 0; i + 2 < n; ++i) {
+    const Eigen::Vector2d& p = a[i];
+    const Eigen::Vector2d& q = a[i + 1];
+    const double sx0 = std::min(p.x(), q.x()), sx1 = std::max(p.x(), q.x());
+    const double sy0 = std::min(p.y(), q.y()), sy1 = std::max(p.y(), q.y());
+    // Segments j > i + 1 that share no node with i (the last one, n − 1, shares node 0 with i = 0).
+    for (std::size_t j = i + 2; j < (i == 0 ? n - 1 : n); ++j) {
+      const Eigen::Vector2d& r = a[j];
+      const Eigen::Vector2d& s = a[(j + 1) % n];
+      if (std::max(r.x(), s.x()) < sx0 || std::min(r.x(), s.x()) > sx1 || std::max(r.y(), s.y()) < sy0 || std::min(r.y(), s.y()) > sy1)
+        continue;
+      if (const auto at = segments_cross(p, q, r, s)) return MembraneCrossing{0, 0, i, j, *at};
     }
   }
   return std::nullopt;
 }
 
 namespace {
-// The first crossing in the order (a, b), a < b, of the membranes get(0 .. count − 1). The pairs
-// with overlapping boxes are tested in parallel (this runs every step), each a on its own.
+// The first crossing in the order (a, b), a ≤ b, of the membranes get(0 .. count − 1): a membrane
+// with itself first, then with the later ones whose boxes overlap; in parallel (this runs every
+// step), each a on its own.
 template <class Get>
 std::optional<MembraneCrossing> first_crossing(std::size_t count, Get get, double L) {
   std::vector<Box> boxes(count);
@@ -99,6 +122,11 @@ std::optional<MembraneCrossing> first_crossing(std::size_t count, Get get, doubl
 #pragma omp parallel for schedule(dynamic, 4) if (n > 8)
   for (long a = 0; a < n; ++a) {
     if (get(a).size() < 2) continue;
+    if (auto c = membrane_crosses_itself(get(a))) {
+      c->cell_a = c->cell_b = std::size_t(a);
+      found[a] = c;
+      continue;
+    }
     for (long b = a + 1; b < n; ++b) {
       if (get(b).size() < 2) continue;
       if (!boxes_overlap(boxes[a], boxes[b], nearest_shift(boxes[a], boxes[b], L))) continue;

@@ -13,8 +13,9 @@
 // by the signs of the cross products (orientation test). Two touching segments (a cross product
 // exactly 0) count as crossing: the membranes met.
 //
-// A cell whose membrane crosses itself is not checked here (the springs' bending resistance keeps
-// a membrane from folding over at the strains the health check allows).
+// A membrane that crosses itself (two segments of one cell that are not neighbours, i.e. share
+// no node) is found the same way: a fold the springs' bending resistance should prevent, and a
+// polygon whose area, chords and wall gaps no longer mean what they say.
 #include <cstddef>
 #include <optional>
 #include <vector>
@@ -24,7 +25,7 @@
 namespace rbc {
 
 struct MembraneCrossing {
-  std::size_t cell_a = 0, cell_b = 0;      // a < b
+  std::size_t cell_a = 0, cell_b = 0;      // a < b; a == b: the membrane crosses itself
   std::size_t segment_a = 0, segment_b = 0;  // segment i joins nodes i and i + 1 (mod N)
   Eigen::Vector2d point = Eigen::Vector2d::Zero();  // where they cross, m (cell a's frame in x1)
 };
@@ -36,5 +37,7 @@ std::optional<MembraneCrossing> find_membrane_crossing(const std::vector<Cell>& 
 
 // Whether a segment of closed polygon a crosses one of closed polygon b (b's nearest image in x1).
 std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b, double L);
+// Whether two segments of closed polygon a that share no node cross (segment_a < segment_b).
+std::optional<MembraneCrossing> membrane_crosses_itself(const Points& a);
 
 }  // namespace rbc

@@ -28,7 +28,7 @@ const std::vector<TableSpec>& schema() {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
       {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "cg_max_iterations", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
       {"output", {"every", "vtk", "vtk_every", "snapshots", "fields", "frames"}},
       {"contact", {"range", "strength"}},
       {"repulsion", {"range", "strength"}},
@@ -376,6 +376,7 @@ ChannelFlowParams Scene::flow_params() const {
   p.advection_substeps = advection_substeps;
   p.preconditioner = parse_pressure_preconditioner(pressure_preconditioner);
   p.cg_tolerance = cg_tolerance;
+  p.cg_max_iterations = cg_max_iterations;
   p.incremental_pressure = projection == "incremental";
   return p;
 }
@@ -411,6 +412,13 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.dt = r.number("time", "dt", "s", 0, big, true);
   s.end = r.number("time", "end", "s", 0, big, true);
   if (s.end < s.dt) r.fail("[time] end", "must be at least one time step (dt)");
+  // The step count is a 64-bit integer (run_scene): far beyond any run's, so a larger end/dt is a
+  // unit slip, not a run (a Δt in µs written as s).
+  if (s.end / s.dt > kMaxSteps) {
+    char b[160];
+    std::snprintf(b, sizeof b, "end / dt = %.3g steps, more than %.0e: check the units of [time] dt and end (seconds)", s.end / s.dt, kMaxSteps);
+    r.fail("[time]", b);
+  }
   s.coupling = r.word("time", "coupling", {"explicit", "semi-implicit"}, s.coupling);
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   // The pressure's form: the study's by default, the incremental one with obstacles (below).
@@ -418,6 +426,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);
+  s.cg_max_iterations = int(r.integer("solver", "cg_max_iterations", 1, 100000, s.cg_max_iterations));
   s.coupling_tolerance = r.number("solver", "coupling_tolerance", "(relative residual)", 1e-14, 1e-1, false, s.coupling_tolerance);
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
@@ -642,7 +651,7 @@ std::string scene_to_toml(const Scene& s) {
   o << "[time]\ndt = " << num(s.dt) << "\nend = " << num(s.end) << "\ncoupling = \"" << s.coupling
     << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
-    << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
+    << "\ncg_max_iterations = " << s.cg_max_iterations << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
   o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
   o << "[repulsion]\nrange = " << num(s.repulsion_range > 0 ? s.repulsion_range : s.mesh_size) << "\nstrength = " << num(s.repulsion_strength) << "\n";

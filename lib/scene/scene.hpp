@@ -7,7 +7,7 @@
 //   [time]    dt, end (s); coupling ("explicit" | "semi-implicit"); advection_substeps (Q);
 //             projection ("study" | "incremental": the pressure's form, ChannelFlowParams;
 //             "incremental" by default with obstacles, "study" otherwise)
-//   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance, coupling_tolerance
+//   [solver]  pressure_preconditioner ("schur" | "laplacian"), cg_tolerance, cg_max_iterations, coupling_tolerance
 //             (relative residual of the semi-implicit coupling's cell-to-cell system)
 //   [output]  every (s between samples), vtk (bool: ParaView files, lib/scene/vtk_output.hpp),
 //             vtk_every (s between them; at least every, default end/100), snapshots = [t, …] (s; membrane shapes),
@@ -57,6 +57,8 @@ inline constexpr double kMaxVelocityNodes = 4e6;
 inline constexpr int kMaxMembraneNodes = 400;
 // Most movie frames a run may write (frames.dat: about 2 kB a cell and frame).
 inline constexpr int kMaxMovieFrames = 2000;
+// The most steps a scene may ask for (end / dt): far beyond any run, and within a 64-bit count.
+inline constexpr double kMaxSteps = 1e12;
 
 // Bad input: the message names the file, the key and what is allowed.
 struct SceneError : std::runtime_error {
@@ -91,6 +93,7 @@ struct Scene {
   std::string projection = "study";
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;
+  int cg_max_iterations = 200;  // the Laplacian preconditioner's CG: a run whose CG stops short of cg_tolerance stops
   // Semi-implicit coupling, several cells: relative residual of the GMRES solve. It only sets how
   // well the linearised force is predicted (the scheme is first order whatever it is); measured
   // at 100 cells (Δt = 2e-6 s, 0.2 ms): 1e-3 and 1e-5 give Re within 3e-5 of each other, with 6

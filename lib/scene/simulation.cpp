@@ -133,6 +133,13 @@ void Simulation::check_health() {
   s << " at t = " << time() << " s (step " << steps() << ")";
   const std::string when = s.str();
   if (!all_finite(u)) throw RunFailure("non-finite velocity" + when);
+  if (!last_projection_.converged) {
+    std::ostringstream m;
+    m << "the pressure CG of step 1 stopped at relative residual " << last_projection_.residual << " after " << last_projection_.iterations
+      << " iterations, above its tolerance " << flow_.params().cg_tolerance << when
+      << ": its pressure is not the step's; use [solver] pressure_preconditioner = \"schur\" (exact) or a larger cg_tolerance";
+    throw RunFailure(m.str());
+  }
   check_disks(when);
   const ChannelFlowParams& p = flow_.params();
   const double speed = max_speed(u);
@@ -191,15 +198,18 @@ void Simulation::check_health() {
       throw RunFailure(m.str());
     }
   }
-  // Two membranes crossing each other (membrane_crossing.hpp): the cells interpenetrate.
-  if (cells_.size() > 1)
-    if (const auto c = find_membrane_crossing(cells_, scene_.length)) {
-      std::ostringstream m;
+  // Two membranes crossing each other, or one itself (membrane_crossing.hpp): the cells
+  // interpenetrate, or a membrane folded over.
+  if (const auto c = find_membrane_crossing(cells_, scene_.length)) {
+    std::ostringstream m;
+    if (c->cell_a == c->cell_b)
+      m << "membrane crossing: cell " << c->cell_a << " crosses itself (its segments " << c->segment_a << " and " << c->segment_b;
+    else
       m << "membrane crossing: cells " << c->cell_a << " and " << c->cell_b << " cross each other (segment " << c->segment_a << " of cell "
-        << c->cell_a << " and segment " << c->segment_b << " of cell " << c->cell_b << " at (" << c->point.x() * 1e6 << ", "
-        << c->point.y() * 1e6 << ") um)" << when << "; lower [time] dt";
-      throw RunFailure(m.str());
-    }
+        << c->cell_a << " and segment " << c->segment_b << " of cell " << c->cell_b;
+    m << " at (" << c->point.x() * 1e6 << ", " << c->point.y() * 1e6 << ") um)" << when << "; lower [time] dt";
+    throw RunFailure(m.str());
+  }
 }
 
 std::vector<Eigen::Vector2d> Simulation::contact_forces() const {
