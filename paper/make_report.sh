@@ -71,9 +71,8 @@ fi
 # tree says so). The code id: the sources that make the numbers.
 sources=(lib experiments CMakeLists.txt)
 numeric=(':(glob)lib/**/*.[ch]pp' ':(glob)experiments/**/*.[ch]pp' ':(glob)experiments/**/*.toml' CMakeLists.txt)
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+read -r code commit < <(sh cmake/code_id.sh)   # the one definition of the code id (every program's --version)
 changes=$(git status --porcelain -- "${sources[@]}" reference-data 2>/dev/null)
-code=$(git ls-tree -r HEAD -- "${sources[@]}" 2>/dev/null | grep -E $'(\\.[ch]pp|\\.toml|\tCMakeLists\\.txt)$' | git hash-object --stdin | cut -c1-12)
 dirty=""
 if [ -n "$changes" ]; then
   if [ "$QUICK" != "1" ]; then
@@ -82,8 +81,10 @@ if [ -n "$changes" ]; then
     exit 2
   fi
   dirty=" (with uncommitted changes)"
-  numeric_changes=$( (git diff HEAD -- "${numeric[@]}"; git ls-files --others --exclude-standard -- "${numeric[@]}" | xargs -r cat) | git hash-object --stdin | cut -c1-8)
-  [ -n "$(git status --porcelain -- "${numeric[@]}")" ] && code="$code-$numeric_changes"
+fi
+built=$("$BUILD/bin/rbcflow" --version 2>/dev/null | sed 's/.*code \([^,]*\),.*/\1/')
+if [ -n "$built" ] && [ "$built" != "$code" ]; then
+  echo "rbcflow: $BUILD was built from code $built, the tree is code $code: build it again (make build-runs)" >&2; exit 2
 fi
 
 results=${RESULTS:-results}; [ "$QUICK" = "1" ] && [ -z "${RESULTS:-}" ] && results=results/quick

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/checkpoint.hpp"
+#include "io/provenance.hpp"
 #include "io/progress.hpp"
 #include "scene/run_scene.hpp"
 
@@ -95,9 +96,10 @@ Scene two_cell_scene(const std::string& coupling, int cells = 2) {
   return s;
 }
 
+// The summary less what the clock writes (wall time, start and end instants).
 nlohmann::json summary_without_wall_time(const fs::path& dir) {
   nlohmann::json j = nlohmann::json::parse(read_all(dir / "summary.json"));
-  j.erase("wall_seconds");
+  for (const char* clock : {"wall_seconds", "started", "ended"}) j.erase(clock);
   return j;
 }
 
@@ -194,11 +196,11 @@ TEST(Checkpoint, ACheckpointOfAnotherSceneOrVersionOrNoCheckpointIsRefused) {
   EXPECT_NE(m.find("dt = "), std::string::npos) << m;
   // The scene stored in the checkpoint reads back as the scene that wrote it.
   EXPECT_EQ(scene_to_toml(checkpoint_scene(dir.string())), scene_to_toml(two_cell_scene("explicit")));
-  // A checkpoint of another version (its version record changed, checksum made valid again).
+  // A checkpoint of other code (its code record changed, checksum made valid again).
   scene.dt *= 2.0;
   {
     std::string bytes = read_all(dir / "checkpoint.bin");
-    const std::string version = RBCFLOW_VERSION;
+    const std::string version = code_id();
     const auto k = bytes.find(version);
     ASSERT_NE(k, std::string::npos);
     bytes.replace(k, version.size(), std::string(version.size(), '9'));
@@ -208,7 +210,7 @@ TEST(Checkpoint, ACheckpointOfAnotherSceneOrVersionOrNoCheckpointIsRefused) {
     std::ofstream(dir / "checkpoint.bin", std::ios::binary | std::ios::trunc) << bytes;
   }
   const std::string v = error_of([&] { run_scene(scene, o); });
-  EXPECT_NE(v.find("written by rbcflow " + std::string(std::string(RBCFLOW_VERSION).size(), '9')), std::string::npos) << v;
+  EXPECT_NE(v.find("written by code " + std::string(std::string(code_id()).size(), '9') + ", this is code " + code_id()), std::string::npos) << v;
   EXPECT_THROW(checkpoint_scene(dir.string()), CheckpointError);  // rbcflow resume: refused too
 }
 

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/provenance.hpp"
 #include "scene/run_scene.hpp"
 
 namespace rbc {
@@ -304,6 +305,37 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   std::ofstream(out / "summary.json") << j.dump();
   EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
+}
+
+TEST(SceneRunner, AResultsFolderSaysWhatMadeItAndRepeatsFromItsSceneFile) {
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_provenance";
+  std::filesystem::remove_all(out);
+  const char* argv[] = {"rbcflow", "run", "scene.toml", "--set", "time.end=2e-6"};
+  set_command_line(5, argv);
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  // The resolved scene beside the results: it parses to the scene that ran.
+  std::ifstream f(out / "scene.toml");
+  ASSERT_TRUE(f.good());
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  Scene again = parse_scene(text, (out / "scene.toml").string());
+  again.source = scene.source;  // (the file's name is its source)
+  EXPECT_EQ(scene_to_toml(again), scene_to_toml(scene));
+  EXPECT_NE(text.find(std::string("code ") + code_id()), std::string::npos);
+  // The summary names the code, the commit, the command and when it ran.
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(j.at("code"), code_id());
+  EXPECT_EQ(j.at("commit"), commit_id());
+  EXPECT_EQ(j.at("command"), "rbcflow run scene.toml --set time.end=2e-6");
+  EXPECT_EQ(j.at("started").get<std::string>().size(), 20u);  // 2026-11-29T09:30:00Z
+  EXPECT_GE(j.at("ended").get<std::string>(), j.at("started").get<std::string>());
+  // A finished run of other code is not reused (it runs again), unless read as kept evidence.
+  EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
+  nlohmann::json other = j;
+  other["code"] = "0123456789ab";
+  std::ofstream(out / "summary.json") << other.dump();
+  EXPECT_FALSE(read_finished_run(out.string(), scene).has_value());
+  EXPECT_TRUE(read_finished_run(out.string(), scene, true).has_value());
 }
 
 // Where the semi-implicit coupling iterates (several cells, or one with obstacles), how GMRES

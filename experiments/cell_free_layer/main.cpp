@@ -6,11 +6,14 @@
 #include <CLI/CLI.hpp>
 
 #include "cell_free_layer.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   rbc::cell_free_layer::Params p;
   bool check = false, record = false, list = false, no_evidence = false, no_convergence = false;
   CLI::App app{"cell_free_layer: 50 and 100 cells (s* = 0.7) in the wide channel and the cell-free layer next to the walls"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("cell_free_layer"), "print the code id and commit this program was built from");
   std::string out;
   app.add_option("--out", out, "output folder (default results/cell_free_layer, with --quick results/cell_free_layer_quick)");
   app.add_flag("--quick", p.quick, "short CI parameters (3 ms, h = 0.625 um)");

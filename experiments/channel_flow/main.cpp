@@ -7,11 +7,14 @@
 #include <CLI/CLI.hpp>
 
 #include "channel_flow.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   rbc::channel_flow::Params p;
   bool check = false;
   CLI::App app{"channel_flow: the study's cell-free channels against plane Poiseuille flow"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("channel_flow"), "print the code id and commit this program was built from");
   app.add_option("--out", p.out_dir, "output folder");
   app.add_flag("--quick", p.quick, "short CI parameters");
   app.add_flag("--check", check, "compare with reference-data/channel_flow.csv; exit 1 on a failed row");

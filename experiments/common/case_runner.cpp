@@ -106,7 +106,10 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
     return why;
   };
   try {
-    const std::optional<RunSummary> done = o.reuse ? read_finished_run(out.string(), scene) : std::nullopt;
+    // A kept run (its folder's code_id: paper/keep_evidence.sh) is read whatever code made it; it
+    // names that code (r.code).
+    const bool kept = fs::exists(out / "code_id");
+    const std::optional<RunSummary> done = o.reuse ? read_finished_run(out.string(), scene, kept) : std::nullopt;
     const std::optional<std::string> stopped = o.reuse && !done ? read_failure() : std::nullopt;
     if (stopped) throw RunFailure(*stopped);
     if (o.collect && !done) {

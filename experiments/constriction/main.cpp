@@ -6,11 +6,14 @@
 #include <CLI/CLI.hpp>
 
 #include "constriction.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   rbc::constriction::Params p;
   bool check = false, record = false;
   CLI::App app{"constriction: 12 cells through a channel with a constriction, blocks held by the fictitious domain"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("constriction"), "print the code id and commit this program was built from");
   std::string out;
   app.add_option("--out", out, "output folder (default results/constriction, with --quick results/constriction_quick)");
   app.add_flag("--quick", p.quick, "short CI parameters (2 ms, h = 0.625 um)");

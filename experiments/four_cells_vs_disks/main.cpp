@@ -7,11 +7,14 @@
 #include <CLI/CLI.hpp>
 
 #include "four_cells_vs_disks.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   rbc::four_cells_vs_disks::Params p;
   bool check = false, record = false, list = false, no_convergence = false, no_evidence = false;
   CLI::App app{"four_cells_vs_disks: four cells (k_b ... 1000 k_b, s* = 0.7) against four rigid disks in the wide channel"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("four_cells_vs_disks"), "print the code id and commit this program was built from");
   std::string out;
   app.add_option("--out", out, "output folder (default results/four_cells_vs_disks, with --quick results/four_cells_vs_disks_quick)");
   app.add_flag("--quick", p.quick, "short CI parameters (5 ms, h = 0.625 um)");

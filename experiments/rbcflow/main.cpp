@@ -15,9 +15,12 @@
 #include "io/checkpoint.hpp"
 #include "reference/reference_table.hpp"
 #include "scene/run_scene.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"rbcflow: red blood cells in Poiseuille flows (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455)"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("rbcflow"), "print the code id and commit this program was built from");
   // Command-line errors in one line, like the other errors (set before the subcommands copy it).
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return "rbcflow: error: " + std::string(e.what()) + " (see rbcflow --help)\n";

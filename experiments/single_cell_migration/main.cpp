@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "single_cell_migration.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   namespace scm = rbc::single_cell_migration;
@@ -14,6 +15,8 @@ int main(int argc, char** argv) {
   std::string out;
   int threads = 0;
   CLI::App app{"single_cell_migration: Figures 3-5 of Shi, Pan & Glowinski (2012)"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("single_cell_migration"), "print the code id and commit this program was built from");
   app.add_option("--out", out, "output folder (default results/single_cell_migration)");
   app.add_flag("--quick", quick, "short CI parameters (h = 0.25 um, to 1 ms)");
   app.add_flag("--check", check, "compare with reference-data/single_cell_migration.csv; exit 1 on a failed row");

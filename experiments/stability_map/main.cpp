@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "stability_map.hpp"
+#include "io/provenance.hpp"
 
 int main(int argc, char** argv) {
   namespace sm = rbc::stability_map;
@@ -16,6 +17,8 @@ int main(int argc, char** argv) {
   std::string out;
   int threads = 0;
   CLI::App app{"stability_map: largest stable time step of the explicit and semi-implicit couplings"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("stability_map"), "print the code id and commit this program was built from");
   app.add_option("--out", out, "output folder (default results/stability_map)");
   app.add_flag("--quick", quick, "a small map (h = 0.5, 0.25 um; three stiffnesses)");
   app.add_flag("--check", check, "exit 1 if an extreme case stopped (the study publishes no numbers for this map)");

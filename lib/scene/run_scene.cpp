@@ -14,6 +14,7 @@
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "io/checkpoint.hpp"
+#include "io/provenance.hpp"
 #include "io/progress.hpp"
 #include "scene/movie_frames.hpp"
 #include "scene/vtk_output.hpp"
@@ -166,19 +167,21 @@ std::vector<std::string> scene_lines(const std::string& toml) {
   return lines;
 }
 
-// Header of every checkpoint: version, scene source and TOML, thread count.
+// Header of every checkpoint: the code that wrote it (io/provenance.hpp), scene source and TOML,
+// thread count.
 struct CheckpointHeader {
-  std::string version, source, scene_toml;
+  std::string code, source, scene_toml;
   std::int64_t threads = 0;
 };
 
-// Reads the header; a checkpoint of another version is refused.
+// Reads the header; a checkpoint written by other code is refused (its state need not be this
+// code's: a run must not continue with other arithmetic than it started with).
 CheckpointHeader read_header(CheckpointReader& r) {
   CheckpointHeader h;
-  h.version = r.get_string();
-  if (h.version != RBCFLOW_VERSION)
-    throw CheckpointError(r.path() + ": written by rbcflow " + h.version + ", this is " + RBCFLOW_VERSION +
-                          "; rerun the scene from the start");
+  h.code = r.get_string();
+  if (h.code != code_id())
+    throw CheckpointError(r.path() + ": written by code " + h.code + ", this is code " + code_id() +
+                          "; rerun the scene from the start, or resume with the build of that code");
   h.source = r.get_string();
   h.scene_toml = r.get_string();
   h.threads = r.get_int();
@@ -206,7 +209,7 @@ CheckpointReader open_checkpoint(const fs::path& dir) {
 
 void write_checkpoint(const fs::path& dir, const Scene& scene, const Simulation& sim, const RunState& st) {
   CheckpointWriter w;
-  w.put(std::string(RBCFLOW_VERSION));
+  w.put(std::string(code_id()));
   w.put(scene.source);
   w.put(scene_to_toml(scene));
   w.put(std::int64_t(omp_get_max_threads()));
@@ -444,7 +447,16 @@ void write_profile(const fs::path& path, const ChannelFlow& flow) {
 }
 
 // summary.json (SPEC section 8; the units are in its "units" entry).
-void write_summary(const fs::path& path, const Scene& scene, const Simulation& sim, const RunSummary& s) {
+// The resolved scene of a run, from which `rbcflow run <folder>/scene.toml` repeats it.
+void write_scene_file(const fs::path& path, const Scene& scene) {
+  std::ofstream f(path);
+  f << "# The resolved scene of the run in this folder (" << scene.source << "), written by code " << code_id() << ", commit "
+    << commit_id() << ":\n#   " << command_line() << "\n# Repeat it: rbcflow run " << path.string() << "\n"
+    << scene_to_toml(scene);
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+void write_summary(const fs::path& path, const Scene& scene, const Simulation& sim, const RunSummary& s, const std::string& started) {
   const ChannelFlow& flow = sim.flow();
   const auto& cells = sim.cells();
   nlohmann::ordered_json j;
@@ -518,6 +530,13 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
   j["threads"] = omp_get_max_threads();
   j["scene"] = scene.source;
   j["version"] = RBCFLOW_VERSION;
+  // What made it (io/provenance.hpp): the code and commit, the command, this invocation's start and
+  // end (a resumed run: the last invocation's), the resolved scene beside it (scene.toml).
+  j["code"] = code_id();
+  j["commit"] = commit_id();
+  j["command"] = command_line();
+  j["started"] = started;
+  j["ended"] = utc_now();
   j["instruction_set"] = RBCFLOW_INSTRUCTION_SET;  // results differ at round-off between sets (CMakeLists.txt)
   j["units"] = "SI: m, s, kg; velocities m/s, forces N/m^3, areas m^2, hematocrit %";
   std::ofstream(path) << j.dump(2) << "\n";
@@ -531,6 +550,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const fs::path out(opt.out_dir);
+  const std::string started = utc_now();
+  if (!opt.resume) write_scene_file(out / "scene.toml", scene);
 
   Simulation sim(scene);
   if (!sim.cells().empty() && opt.progress) print_membrane_header(scene, sim.membrane());
@@ -605,15 +626,16 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
     std::ofstream fin(out / "membranes_final.dat");
     write_membranes(fin, sim.cells(), sim.time());
   }
-  write_summary(out / "summary.json", scene, sim, s);
+  write_summary(out / "summary.json", scene, sim, s, started);
   return s;
 }
 
-std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene) {
+std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene, bool any_code) {
   const fs::path path = fs::path(dir) / "summary.json";
   if (!fs::exists(path)) return std::nullopt;
   try {
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
+    if (!any_code && j.value("code", std::string()) != code_id()) return std::nullopt;  // other code: run again
     // (A summary without "projection" is older than the incremental form's key: the study's form.)
     if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
         j.value("projection", std::string("study")) != scene.projection ||

@@ -61,8 +61,10 @@ struct RunSummary {
 RunSummary run_scene(const Scene& scene, const RunOptions& options);
 
 // The summary of a finished run of this scene in dir (summary.json naming the same scene source,
-// Δt, coupling and end time), or nothing.
-std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene);
+// Δt, coupling and end time) made by this code (its "code": io/provenance.hpp), or nothing. With
+// any_code, a run of other code is read too: the evidence kept in the repository, each run named
+// with its code by the caller (paper/keep_evidence.sh).
+std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene, bool any_code = false);
 
 // The scene a checkpoint was written for (rbcflow resume DIR); throws CheckpointError.
 Scene checkpoint_scene(const std::string& dir);

@@ -1,5 +1,7 @@
 #include "scene/scene.hpp"
 
+#include "io/provenance.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -642,7 +644,7 @@ std::vector<std::string> scene_keys() {
 std::string scene_to_toml(const Scene& s) {
   std::ostringstream o;
   const auto num = toml_number;
-  o << "# written by rbcflow " << RBCFLOW_VERSION << " from " << s.source << "\n";
+  o << "# written by rbcflow code " << code_id() << " from " << s.source << "\n";
   o << "[fluid]\ndensity = " << num(s.fluid.density) << "\nviscosity = " << num(s.fluid.viscosity) << "\n";
   o << "[channel]\nlength = " << num(s.length) << "\nheight = " << num(s.height) << "\nmesh_size = " << num(s.mesh_size) << "\n";
   if (s.reynolds0) o << "reynolds = " << num(*s.reynolds0) << "\n";

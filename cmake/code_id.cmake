@@ -1,0 +1,18 @@
+# Writes OUT (a header) with the source tree's code id and commit (cmake/code_id.sh), only when
+# they changed, so that only the file that includes it is compiled again. Run at every build.
+execute_process(COMMAND sh ${SRC}/cmake/code_id.sh OUTPUT_VARIABLE ids OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0 OR ids STREQUAL "")
+  set(ids "unknown unknown")
+endif()
+string(REPLACE " " ";" parts "${ids}")
+list(GET parts 0 code)
+list(GET parts 1 commit)
+set(text "// Generated at build time by cmake/code_id.cmake: do not edit.\n#define RBCFLOW_CODE_ID \"${code}\"\n#define RBCFLOW_COMMIT \"${commit}\"\n")
+if(EXISTS ${OUT})
+  file(READ ${OUT} old)
+else()
+  set(old "")
+endif()
+if(NOT old STREQUAL text)
+  file(WRITE ${OUT} "${text}")
+endif()
