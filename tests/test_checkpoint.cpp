@@ -58,10 +58,15 @@ TEST(CheckpointFile, RoundTripsAndRefusesDamagedFiles) {
     EXPECT_TRUE(r.at_end());
     EXPECT_NE(error_of([&] { r.get_double(); }).find("ends too early"), std::string::npos);
   }
-  // A second commit keeps the first as .prev and leaves no temporary file.
+  // A second commit keeps the first as .prev (the same bytes) and leaves no temporary file.
+  const std::string first = read_all(path);
   w.commit(path);
   EXPECT_TRUE(fs::exists(path + ".prev"));
-  EXPECT_FALSE(fs::exists(path + ".tmp"));
+  EXPECT_EQ(read_all(path + ".prev"), first);
+  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  // A full disk (the device that is always full): the write fails naming the file and the
+  // reason, and the checkpoint in place stays whole.
+  EXPECT_NE(error_of([&] { write_synced("/dev/full", first.data(), first.size()); }).find("No space left on device"), std::string::npos);
   std::string bytes = read_all(path);
   auto write = [&](const std::string& b) { std::ofstream(path, std::ios::binary | std::ios::trunc) << b; };
   std::string flipped = bytes;

@@ -338,6 +338,23 @@ TEST(SceneRunner, AResultsFolderSaysWhatMadeItAndRepeatsFromItsSceneFile) {
   EXPECT_TRUE(read_finished_run(out.string(), scene, true).has_value());
 }
 
+TEST(SceneRunner, AnOutputThatCannotBeWrittenStopsTheRunNamingTheFile) {
+  // series.csv on the device that is always full (the disk-full case): before, the rows were lost
+  // silently and the run "succeeded"; now it stops at the first sample naming the file.
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_full";
+  std::filesystem::remove_all(out);
+  std::filesystem::create_directories(out);
+  std::filesystem::create_symlink("/dev/full", out / "series.csv");
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  try {
+    run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+    ADD_FAILURE() << "the run went on without its series";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("series.csv: cannot write"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(out / "series.csv");  // (the link, not the device)
+}
+
 // Where the semi-implicit coupling iterates (several cells, or one with obstacles), how GMRES
 // solves (CouplingOptions) and its tolerance are part of the run too. The summary is written by
 // hand here (a run of two cells would take seconds for a check of the reading).

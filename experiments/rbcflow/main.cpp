@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
   } catch (const rbc::CheckpointError& e) {
     std::fprintf(stderr, "rbcflow: error: %s\n", e.what());
     return 2;
+  } catch (const rbc::OutputError& e) {
+    std::fprintf(stderr, "rbcflow: error: %s\n", e.what());
+    return 2;
   } catch (const rbc::RunFailure& e) {
     std::fprintf(stderr, "rbcflow: run stopped: %s\n", e.what());
     return 3;

@@ -1,9 +1,13 @@
 #include "io/checkpoint.hpp"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 namespace rbc {
 
@@ -57,18 +61,57 @@ void CheckpointWriter::commit(const std::string& path) const {
   const std::uint64_t sum = fnv1a64(file.data(), file.size());
   const auto* s = reinterpret_cast<const unsigned char*>(&sum);
   file.insert(file.end(), s, s + sizeof sum);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(file.data()), std::streamsize(file.size()));
-    out.flush();
-    if (!out) throw CheckpointError(tmp + ": cannot write the checkpoint (disk full or folder not writable?)");
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
+  try {
+    write_synced(tmp, file.data(), file.size());
+  } catch (const CheckpointError&) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);  // the last good checkpoint stays as it was
+    throw;
   }
   std::error_code ec;
-  if (fs::exists(path)) fs::rename(path, path + ".prev", ec);
-  if (ec) throw CheckpointError(path + ": cannot keep the previous checkpoint (" + ec.message() + ")");
+  if (fs::exists(path)) {
+    // NAME.prev from a hard link of NAME (renamed over the old .prev), NAME itself untouched.
+    const std::string link = path + ".prev.tmp." + std::to_string(::getpid());
+    fs::remove(link, ec);
+    fs::create_hard_link(path, link, ec);
+    if (!ec) fs::rename(link, path + ".prev", ec);
+    if (ec) {
+      fs::remove(tmp);
+      throw CheckpointError(path + ": cannot keep the previous checkpoint (" + ec.message() + ")");
+    }
+  }
   fs::rename(tmp, path, ec);
-  if (ec) throw CheckpointError(path + ": cannot rename the new checkpoint into place (" + ec.message() + ")");
+  if (ec) {
+    fs::remove(tmp);
+    throw CheckpointError(path + ": cannot rename the new checkpoint into place (" + ec.message() + ")");
+  }
+  sync_folder(fs::path(path).parent_path().string());
+}
+
+void write_synced(const std::string& path, const void* data, std::size_t n) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw CheckpointError(path + ": cannot create (" + std::strerror(errno) + ")");
+  const auto* p = static_cast<const unsigned char*>(data);
+  std::size_t done = 0;
+  while (done < n) {
+    const ::ssize_t w = ::write(fd, p + done, n - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      throw CheckpointError(path + ": cannot write (" + why + "; disk full or folder not writable?)");
+    }
+    done += std::size_t(w);
+  }
+  if (::fsync(fd) != 0 || ::close(fd) != 0) throw CheckpointError(path + ": cannot sync to the disk (" + std::strerror(errno) + ")");
+}
+
+void sync_folder(const std::string& dir) {
+  const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // (a folder that cannot be opened for reading: its renames stand unsynced)
+  ::fsync(fd);
+  ::close(fd);
 }
 
 CheckpointReader::CheckpointReader(const std::string& path) : path_(path) {

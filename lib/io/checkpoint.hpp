@@ -4,9 +4,11 @@
 //   layout   "RBCFLOW-CHECKPOINT" magic, format number (uint32), then the payload (records
 //            written by the parts of the run, in order), then the FNV-1a 64-bit checksum of
 //            everything before it.
-//   writing  to NAME.tmp, flushed and checked, then renamed over NAME after the previous NAME
-//            was renamed to NAME.prev: a crash mid-write never leaves a corrupt newest file, and
-//            the previous checkpoint survives until the new one is complete.
+//   writing  to NAME.tmp.<pid> (a second process never shares it), written, checked and synced
+//            to the disk (fsync); the previous NAME becomes NAME.prev through a hard link
+//            renamed over NAME.prev, so that NAME exists at every instant; then NAME.tmp.<pid>
+//            is renamed over NAME and the folder synced. A crash at any point leaves NAME whole
+//            (the old or the new one) and the previous checkpoint until the new one is on disk.
 //   reading  the whole file, magic, format and checksum checked before any value is used; every
 //            read is bounds-checked. Any problem is a CheckpointError naming the file and what
 //            is wrong.
@@ -46,6 +48,12 @@ class CheckpointWriter {
   void raw(const void* p, std::size_t n);
   std::vector<unsigned char> bytes_;
 };
+
+// Writes n bytes to path and syncs them to the disk (open, write, fsync, close), or throws
+// CheckpointError naming the file and the system's reason (the caller removes what it made).
+void write_synced(const std::string& path, const void* data, std::size_t n);
+// Syncs a folder's entries (its renames) to the disk; silently nothing where it cannot be opened.
+void sync_folder(const std::string& dir);
 
 class CheckpointReader {
  public:

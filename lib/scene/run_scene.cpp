@@ -279,6 +279,13 @@ constexpr double kFluxMismatchWarning = 0.01;
 
 // The run's output files while it goes: series.csv (a row per sample), the membrane snapshots,
 // the velocity fields and VTK files asked for. Its state goes into every checkpoint.
+// A stream's writes so far reached their file, or the run stops naming it (OutputError).
+void check_written(std::ostream& f, const fs::path& file) {
+  if (!f)
+    throw OutputError(file.string() + ": cannot write (disk full, or the folder removed?); the run stops with its last checkpoint kept: "
+                      "make room, then resume");
+}
+
 class RunOutputs {
  public:
   RunOutputs(const fs::path& out, const Scene& scene, const Simulation& sim, const RunState& resumed, bool fresh)
@@ -315,8 +322,9 @@ class RunOutputs {
   double last_nodal() const { return last_nodal_; }
   RunState state(double wall_seconds) {
     series_.flush();
-    if (snapshots_.is_open()) snapshots_.flush();
-    if (frames_.is_open()) frames_.flush();
+    check_written(series_, out_ / "series.csv");
+    if (snapshots_.is_open()) check_written(snapshots_.flush(), out_ / "snapshots.dat");
+    if (frames_.is_open()) check_written(frames_.flush(), out_ / "frames.dat");
     RunState st;
     st.series_bytes = std::int64_t(series_.tellp());
     st.snapshot_bytes = snapshots_.is_open() ? std::int64_t(snapshots_.tellp()) : 0;
@@ -409,13 +417,16 @@ void RunOutputs::sample() {
   for (const Disk& d : sim_.disks())  // centre (m, x1 unwrapped), velocity (m/s), spin (1/s)
     series_ << "," << d.center.x() << "," << d.center.y() << "," << d.velocity.x() << "," << d.velocity.y() << "," << d.angular_velocity;
   series_ << "\n";
-  series_.flush();
+  check_written(series_.flush(), out_ / "series.csv");
   if (vtk_) vtk_->sample_due();
 }
 
 void RunOutputs::snapshots_due() {
   while (next_snapshot_ < scene_.snapshots.size() && scene_.snapshots[next_snapshot_] <= sim_.time() + 0.5 * scene_.dt) {
-    if (!sim_.cells().empty()) write_membranes(snapshots_, sim_.cells(), sim_.time());
+    if (!sim_.cells().empty()) {
+      write_membranes(snapshots_, sim_.cells(), sim_.time());
+      check_written(snapshots_.flush(), out_ / "snapshots.dat");
+    }
     if (scene_.field_snapshots)
       write_field(out_ / ("field_" + std::to_string(next_snapshot_) + ".dat"), sim_.flow().mesh(), sim_.flow().velocity(), sim_.time());
     ++next_snapshot_;
@@ -426,7 +437,7 @@ void RunOutputs::snapshots_due() {
 void RunOutputs::frames_due() {
   if (scene_.frames <= 0 || next_frame_ > scene_.frames || sim_.time() < next_frame_ * scene_.end / scene_.frames - 0.5 * scene_.dt) return;
   write_frame(frames_, sim_);
-  frames_.flush();
+  check_written(frames_.flush(), out_ / "frames.dat");
   ++next_frame_;
 }
 
@@ -453,7 +464,7 @@ void write_scene_file(const fs::path& path, const Scene& scene) {
   f << "# The resolved scene of the run in this folder (" << scene.source << "), written by code " << code_id() << ", commit "
     << commit_id() << ":\n#   " << command_line() << "\n# Repeat it: rbcflow run " << path.string() << "\n"
     << scene_to_toml(scene);
-  if (!f) throw std::runtime_error("cannot write " + path.string());
+  check_written(f.flush(), path);
 }
 
 void write_summary(const fs::path& path, const Scene& scene, const Simulation& sim, const RunSummary& s, const std::string& started) {
@@ -539,7 +550,9 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
   j["ended"] = utc_now();
   j["instruction_set"] = RBCFLOW_INSTRUCTION_SET;  // results differ at round-off between sets (CMakeLists.txt)
   j["units"] = "SI: m, s, kg; velocities m/s, forces N/m^3, areas m^2, hematocrit %";
-  std::ofstream(path) << j.dump(2) << "\n";
+  std::ofstream f(path);
+  f << j.dump(2) << "\n";
+  check_written(f.flush(), path);
 }
 
 }  // namespace

@@ -41,6 +41,12 @@ struct RunOptions {
 };
 
 // A run stopped by SIGINT or SIGTERM after writing its checkpoint.
+// An output file could not be written (a full disk, a removed folder): the run stops at once,
+// its last checkpoint kept (resume once there is room).
+struct OutputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 struct RunInterrupted : std::runtime_error {
   RunInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal(signal) {}
   int signal;
