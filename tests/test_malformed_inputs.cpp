@@ -71,7 +71,7 @@ struct Case {
 
 std::vector<Case> corpus() {
   const std::string out = "--out " + (fs::temp_directory_path() / "rbcflow_malformed_out").string();
-  const std::string run = "run %s " + out;
+  const std::string run = "run %s " + out + " --overwrite";
   const std::string cells = kGood;
   std::vector<Case> c = {
       // Files that are not scenes.

@@ -2,6 +2,10 @@
 // scene writes summary.json and series.csv as SPEC section 8 names them.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -338,21 +342,59 @@ TEST(SceneRunner, AResultsFolderSaysWhatMadeItAndRepeatsFromItsSceneFile) {
   EXPECT_TRUE(read_finished_run(out.string(), scene, true).has_value());
 }
 
+TEST(SceneRunner, AFolderHoldsOneRunAtATime) {
+  const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_one_run";
+  std::filesystem::remove_all(out);
+  const Scene scene = parse_scene(kGood, "scene.toml");
+  run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  // Another run's files in the folder: refused where asked (rbcflow run without --overwrite)...
+  const std::string refused = [&] {
+    try {
+      run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false, .refuse_other_run = true});
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  }();
+  EXPECT_NE(refused.find("holds another run"), std::string::npos) << refused;
+  EXPECT_NE(refused.find("--overwrite"), std::string::npos) << refused;
+  // ... else cleared first: an old run's checkpoint and fields do not stay beside the new run.
+  std::ofstream(out / "checkpoint.bin.prev") << "an old run's";
+  std::ofstream(out / "field_3.dat") << "an old run's";
+  run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+  EXPECT_FALSE(std::filesystem::exists(out / "checkpoint.bin.prev"));
+  EXPECT_FALSE(std::filesystem::exists(out / "field_3.dat"));
+  EXPECT_TRUE(std::filesystem::exists(out / "summary.json"));
+  // A second process on the folder (its lock held here): stops at once, naming the folder.
+  const int fd = ::open((out / ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  try {
+    run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
+    ADD_FAILURE() << "two runs in one folder";
+  } catch (const OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another rbcflow process is running in this folder"), std::string::npos) << e.what();
+  }
+  ::close(fd);
+  EXPECT_NO_THROW(run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false}));  // the lock released
+}
+
 TEST(SceneRunner, AnOutputThatCannotBeWrittenStopsTheRunNamingTheFile) {
-  // series.csv on the device that is always full (the disk-full case): before, the rows were lost
-  // silently and the run "succeeded"; now it stops at the first sample naming the file.
+  // An output on the device that is always full (the disk-full case; scene.toml, the one output a
+  // fresh run does not clear first): before, failed writes went unnoticed (series.csv's rows lost,
+  // the run "successful"); now the run stops naming the file.
   const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_full";
   std::filesystem::remove_all(out);
   std::filesystem::create_directories(out);
-  std::filesystem::create_symlink("/dev/full", out / "series.csv");
+  std::filesystem::create_symlink("/dev/full", out / "scene.toml");
   const Scene scene = parse_scene(kGood, "scene.toml");
   try {
     run_scene(scene, {.out_dir = out.string(), .threads = 1, .progress = false});
     ADD_FAILURE() << "the run went on without its series";
   } catch (const OutputError& e) {
-    EXPECT_NE(std::string(e.what()).find("series.csv: cannot write"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("scene.toml: cannot write"), std::string::npos) << e.what();
   }
-  std::filesystem::remove(out / "series.csv");  // (the link, not the device)
+  std::filesystem::remove(out / "scene.toml");  // (the link, not the device)
 }
 
 // Where the semi-implicit coupling iterates (several cells, or one with obstacles), how GMRES

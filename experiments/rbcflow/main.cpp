@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   run->add_option("scene", scene_path, "scene file (.toml)")->required();
   run->add_option("--out", out_dir, "output folder (default: results/<scene name>/)");
   run->add_option("--set", overrides, "override a scene key: table.key=value (TOML value)");
+  bool overwrite = false;
+  run->add_flag("--overwrite", overwrite, "clear another run's files from the output folder first (without it such a folder is refused)");
   CLI::App* resume = app.add_subcommand("resume", "continue a stopped run from the newest valid checkpoint in its folder");
   resume->add_option("dir", resume_dir, "output folder of the stopped run")->required();
   for (CLI::App* sub : {run, resume}) {
@@ -73,7 +75,7 @@ int main(int argc, char** argv) {
     }
     const rbc::RunSummary s = rbc::run_scene(scene, {.out_dir = out_dir, .threads = threads, .progress = !quiet,
                                                      .checkpoint_wall = checkpoint_wall, .checkpoint_sim = checkpoint_sim,
-                                                     .resume = resume->parsed()});
+                                                     .resume = resume->parsed(), .refuse_other_run = !overwrite});
     std::printf("%ld steps to t = %.6g s in %.2f s; mean velocity %.6g m/s, Re = %.6g; outputs in %s\n", s.steps,
                 s.t_end, s.wall_seconds, s.mean_velocity, s.reynolds, out_dir.c_str());
     return 0;

@@ -1,8 +1,10 @@
 #include "scene/run_scene.hpp"
 
+#include <cerrno>
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -19,9 +21,67 @@
 #include "scene/movie_frames.hpp"
 #include "scene/vtk_output.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 namespace rbc {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// The files a run writes into its folder (run_scene, RunOutputs, VtkSeries), by name or pattern.
+bool is_run_file(const std::string& name) {
+  // (Not scene.toml: the new run writes its own over it, and a user's scene file may bear the name.)
+  for (const char* f : {"checkpoint.bin", "checkpoint.bin.prev", "series.csv", "summary.json", "snapshots.dat", "frames.dat",
+                        "profile.csv", "membranes_final.dat", "vtk"})
+    if (name == f) return true;
+  return name.rfind("field_", 0) == 0 || name.rfind("checkpoint.bin.", 0) == 0;  // fields, temporaries
+}
+
+// The folder's lock for the run's life: flock on DIR/.lock (released when the process ends, also
+// by a crash), holding the pid of its owner for the message.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& dir) {
+    const fs::path path = dir / ".lock";
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw OutputError(path.string() + ": cannot create the folder's lock (" + std::strerror(errno) + ")");
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      char owner[32] = {0};
+      const ::ssize_t n = ::pread(fd_, owner, sizeof owner - 1, 0);
+      ::close(fd_);
+      throw OutputError(dir.string() + ": another rbcflow process is running in this folder (pid " + (n > 0 ? std::string(owner, std::size_t(n)) : "?") +
+                        "); give each run its own --out");
+    }
+    const std::string pid = std::to_string(::getpid());
+    if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {}  // (the pid is for the message only)
+  }
+  ~FolderLock() {
+    if (fd_ >= 0) ::close(fd_);  // (releases the lock)
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+// A fresh run's folder: another run's files cleared, or (refuse) the run refused.
+void clear_other_run(const fs::path& dir, bool refuse) {
+  std::vector<fs::path> old;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (is_run_file(e.path().filename().string())) old.push_back(e.path());
+  if (old.empty()) return;
+  if (refuse)
+    throw SceneError(dir.string() + ": holds another run (" + old.front().filename().string() +
+                     (old.size() > 1 ? " and " + std::to_string(old.size() - 1) + " more" : "") +
+                     "); give --overwrite to clear it, rbcflow resume to continue it, or another --out");
+  for (const fs::path& p : old) fs::remove_all(p);
+}
+
+}  // namespace
 
 void prepare_output_dir(const std::string& dir) {
   std::error_code ec;
@@ -563,8 +623,12 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
   if (opt.threads > 0) omp_set_num_threads(opt.threads);
   const fs::path out(opt.out_dir);
+  const FolderLock lock(out);
+  if (!opt.resume) clear_other_run(out, opt.refuse_other_run);
   const std::string started = utc_now();
-  if (!opt.resume) write_scene_file(out / "scene.toml", scene);
+  // (Not over the scene file the run was read from, should it lie there under that name.)
+  std::error_code same_ec;
+  if (!opt.resume && !fs::equivalent(scene.source, out / "scene.toml", same_ec)) write_scene_file(out / "scene.toml", scene);
 
   Simulation sim(scene);
   if (!sim.cells().empty() && opt.progress) print_membrane_header(scene, sim.membrane());

@@ -34,8 +34,14 @@ struct RunOptions {
   double checkpoint_wall = 600;  // s
   double checkpoint_sim = 0;     // s
   // Continue from the newest valid checkpoint in out_dir instead of starting afresh; the
-  // checkpoint must be of this scene and this version (CheckpointError otherwise).
+  // checkpoint must be of this scene and this code (CheckpointError otherwise).
   bool resume = false;
+  // A fresh run into a folder that holds another run's files (its checkpoints, series, summary,
+  // snapshots, frames, fields, VTK): they are cleared first, so that no file of the old run stays
+  // beside the new one; with refuse_other_run (rbcflow run without --overwrite) the run is refused
+  // instead (SceneError naming the folder). Either way the folder is locked for the run's life
+  // (DIR/.lock, flock): a second process on it stops at once (OutputError).
+  bool refuse_other_run = false;
   // Called after every completed step (tests use it to interrupt a run at a chosen step).
   std::function<void(long step)> after_step = nullptr;
 };
