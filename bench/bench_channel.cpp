@@ -21,6 +21,9 @@
 #include <fftw3.h>
 #include <omp.h>
 
+#include <CLI/CLI.hpp>
+
+#include "io/provenance.hpp"
 #include "fluid/channel_flow.hpp"
 #include "fictitious_domain/dlm_obstacle_step.hpp"
 #include "scene/run_scene.hpp"
@@ -430,20 +433,22 @@ int main(int argc, char** argv) {
   bool cells_only = false, target_only = false, constriction_only = false, disks_only = false, crowd_only = false;
   int crowd_steps = 600;
   std::string crowd_from, crowd_case = "n100", crowd_start, crowd_blocks, crowd_solves;
-  for (int a = 1; a < argc; ++a) {
-    if (std::string(argv[a]) == "--threads" && a + 1 < argc) threads = std::atoi(argv[a + 1]);
-    if (std::string(argv[a]) == "--cells-only") cells_only = true;
-    if (std::string(argv[a]) == "--target-only") target_only = true;
-    if (std::string(argv[a]) == "--constriction-only") constriction_only = true;
-    if (std::string(argv[a]) == "--disks-only") disks_only = true;
-    if (std::string(argv[a]) == "--crowd-only") crowd_only = true;
-    if (std::string(argv[a]) == "--crowd-steps" && a + 1 < argc) crowd_steps = std::atoi(argv[a + 1]);
-    if (std::string(argv[a]) == "--crowd-from" && a + 1 < argc) crowd_from = argv[a + 1];
-    if (std::string(argv[a]) == "--crowd-case" && a + 1 < argc) crowd_case = argv[a + 1];
-    if (std::string(argv[a]) == "--coupling-start" && a + 1 < argc) crowd_start = argv[a + 1];
-    if (std::string(argv[a]) == "--coupling-blocks" && a + 1 < argc) crowd_blocks = argv[a + 1];
-    if (std::string(argv[a]) == "--coupling-solves" && a + 1 < argc) crowd_solves = argv[a + 1];
-  }
+  CLI::App app{"bench_channel: time per step of the study's scenes against FFT pairs of their grids, ratios measured in one run (bench/README.md)"};
+  rbc::set_command_line(argc, argv);
+  app.set_version_flag("--version", rbc::version_line("bench_channel"), "print the code id and commit this program was built from");
+  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
+  app.add_flag("--cells-only", cells_only, "the cell scenes only");
+  app.add_flag("--target-only", target_only, "the target scene only");
+  app.add_flag("--constriction-only", constriction_only, "the constriction only");
+  app.add_flag("--disks-only", disks_only, "the disks only");
+  app.add_flag("--crowd-only", crowd_only, "the crowd only");
+  app.add_option("--crowd-steps", crowd_steps, "steps of the crowd timed")->check(CLI::Range(1, 1000000));
+  app.add_option("--crowd-from", crowd_from, "start the crowd from this run folder's checkpoint (a developed flow)");
+  app.add_option("--crowd-case", crowd_case, "the crowd: a case of cell_free_layer --list-cases (default n100)");
+  app.add_option("--coupling-start", crowd_start, "the coupling's GMRES start: linear or constant");
+  app.add_option("--coupling-blocks", crowd_blocks, "fixed, turned, or both separated by a comma (alternated)");
+  app.add_option("--coupling-solves", crowd_solves, "double, single, or both separated by a comma (alternated)");
+  CLI11_PARSE(app, argc, argv);
   if (!crowd_start.empty() && crowd_start != "linear" && crowd_start != "constant") {
     std::fprintf(stderr, "bench_channel: --coupling-start %s (allowed: linear, constant)\n", crowd_start.c_str());
     return 2;
