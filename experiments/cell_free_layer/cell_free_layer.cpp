@@ -634,6 +634,9 @@ void write_ensemble_files(const Params& p, const Results& res, const std::string
   const std::vector<std::string> names = reported_members(p, res, base);
   if (names.empty()) return;
   std::ofstream f(fs::path(p.out_dir) / ("ensemble_" + base + ".dat"));
+  const std::string id = "cfl_" + base.substr(1);  // the row (reference-data/cell_free_layer.csv)
+  for (const ReferenceRow& row : load_reference_table(reference_table_path("cell_free_layer")))
+    if (row.id == id && row.value) f << "# study " << *row.value << " um (" << id << ")\n";
   f << "# the arrangements at the rows' Δt: index, seed, layer (um, mean of the walls, last ms), Re (its own reading), code (- : this build)\n";
   for (std::size_t k = 0; k < names.size(); ++k) {
     const CaseResult& c = res.cases.at(names[k]);

@@ -128,14 +128,17 @@ if (members('50') > 1 || members('100') > 1) {
   set xlabel 'arrangement (seed)'; set ylabel 'cell-free layer (um)'
   set autoscale; set xrange [0:7]; set yrange [0:*]
   set key below maxcols 2
-  ref = system('dirname '.ARG0).'/../../reference-data/cell_free_layer.csv'
-  study(id) = real(system(sprintf("awk -F, '$1 == \"%s\" {print $3}' %s", id, ref)))
-  plot for [n in "50 100"] dir.'/ensemble_n'.n.'.dat' using 2:3 with points pt 7 ps 1.4 lc (n eq '50' ? 1 : 2) title n.' cells, ours', \
-       for [n in "50 100"] study('cfl_'.n) with lines dt 2 lw 2 lc (n eq '50' ? 1 : 2) title 'study, '.n.' cells'
+  # (the study's values as the experiment wrote them into each file's head, from reference-data/)
+  study(n) = real(system(sprintf("awk '$2 == \"study\" {print $3}' %s/ensemble_n%s.dat 2>/dev/null | grep . || echo NaN", dir, n)))
+  study50 = study('50')
+  study100 = study('100')
+  crowds = system(sprintf("cd %s && for n in 50 100; do [ -f ensemble_n$n.dat ] && [ -f spread_n$n.dat ] && printf '%%s ' $n; done", dir))
+  plot for [n in crowds] dir.'/ensemble_n'.n.'.dat' using 2:3 with points pt 7 ps 1.4 lc (n eq '50' ? 1 : 2) title n.' cells, ours', \
+       study50 with lines dt 2 lw 2 lc 1 title 'study, 50 cells', study100 with lines dt 2 lw 2 lc 2 title 'study, 100 cells'
   set title 'Spread of the layer over the arrangements against time'
   set xlabel 't (ms)'; set ylabel 's over the arrangements (um)'
   set autoscale; set yrange [0:*]
-  plot for [n in "50 100"] dir.'/spread_n'.n.'.dat' using 1:3 with lines lw 2 lc (n eq '50' ? 1 : 2) title n.' cells'
+  plot for [n in crowds] dir.'/spread_n'.n.'.dat' using 1:3 with lines lw 2 lc (n eq '50' ? 1 : 2) title n.' cells'
   unset multiplot
 }
 
