@@ -29,13 +29,17 @@ code=$(cat "$src/code_id")
 commit=$(cat "$results/commit" 2>/dev/null || echo unknown)
 full=0.002   # s: kFull, the last seconds kept at every sample
 if [ "$1" = --all ]; then
-  set -- $(for d in "$src"/*/; do [ -f "$d/summary.json" ] && [ ! -f "$d/failure.txt" ] && basename "$d"; done)
+  # (not the cases put back from the kept evidence: they carry their own code_id)
+  set -- $(for d in "$src"/*/; do [ -f "$d/summary.json" ] && [ ! -f "$d/failure.txt" ] && [ ! -f "$d/code_id" ] && basename "$d"; done)
 fi
 kept=0
 for case in "$@"; do
   dir="$src/$case"
   if [ ! -f "$dir/summary.json" ] || [ ! -f "$dir/series.csv" ]; then
     echo "keep_evidence: $dir is not a finished run (no summary.json or series.csv)" >&2; exit 2
+  fi
+  if [ -f "$dir/code_id" ]; then
+    echo "keep_evidence: $dir was put back from the kept evidence (its own code_id): already kept" >&2; exit 2
   fi
   if [ -f "$dir/failure.txt" ]; then
     echo "keep_evidence: $dir stopped early ($(sed -n 3p "$dir/failure.txt")): not kept" >&2; exit 2

@@ -147,15 +147,19 @@ fi
 
 # The evidence kept in the repository (paper/keep_evidence.sh: paper/evidence/data/<experiment>/<case>,
 # each with the code that made it): a kept case whose folder is missing goes into place when this
-# command does not run the case itself (with COLLECT=1: every kept case), so that e.g. make
-# reproduce's crowd rows are judged over the arrangements kept from earlier runs. Not in QUICK.
+# command reads it without running it — make reproduce: the cases an experiment reads but never
+# runs (--list-read-only --study-only: the crowds' arrangements its rows are judged by); make
+# evidence: every kept case it does not run itself (with COLLECT=1: every kept case). Not in QUICK.
 restored=0
 if [ "$QUICK" != "1" ]; then
   for exp in "${run_list[@]}"; do
+    read_only=""
+    [ "$mode" = reproduce ] && has_flag "$exp" --list-read-only && read_only=$("$BUILD/bin/$exp" --list-read-only --study-only)
     for kept_case in paper/evidence/data/"$exp"/*/; do
       [ -f "$kept_case/summary.json" ] || continue
       name=$(basename "$kept_case")
       [ -e "$results/$exp/$name" ] && continue
+      [ "$mode" = reproduce ] && ! grep -qx "$name" <<< "$read_only" && continue
       [ "$COLLECT" != "1" ] && grep -qx "$exp $name" "$jobs_file" && continue
       cp -r "$kept_case" "$results/$exp/$name" && restored=$((restored + 1))
     done

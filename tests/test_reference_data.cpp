@@ -484,6 +484,14 @@ TEST(ReferenceData, ChaoticRowIsJudgedAsADistributionOfItsMembers) {
   // |m − study| = 0.42 > T + 2 s/√6 = 0.37: UNEXPLAINED.
   s = compare_with_reference(rows, ensemble({3.137, 3.279, 3.42, 3.42, 3.561, 3.703}, 0.0), {}, true);
   EXPECT_EQ(s.unexplained, 1) << s.rows[0].note;
+  // The distribution alone decides a study value far outside it, even with the mean's u_num incomplete.
+  auto far_incomplete = ensemble(far, 0.01);
+  far_incomplete["cfl"].u.missing = "the arrangements at 3 us";
+  EXPECT_EQ(compare_with_reference(rows, far_incomplete, {}, true).unexplained, 1);
+  // Six members that agree exactly: no spread to judge by.
+  s = compare_with_reference(rows, ensemble({3.1, 3.1, 3.1, 3.1, 3.1, 3.1}, 0.01), {}, true);
+  EXPECT_EQ(s.unresolved, 1);
+  EXPECT_NE(s.rows[0].note.find("agree exactly"), std::string::npos) << s.rows[0].note;
   // Five members: a distribution cannot decide yet.
   s = compare_with_reference(rows, ensemble({3.0, 3.2, 3.1, 3.0, 3.2}, 0.01), {}, true);
   EXPECT_EQ(s.unresolved, 1);

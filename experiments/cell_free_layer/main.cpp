@@ -19,6 +19,9 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", p.quick, "short CI parameters (3 ms, h = 0.625 um)");
   app.add_flag("--check", check, "compare with reference-data/cell_free_layer.csv; exit 1 on a failed row");
   app.add_flag("--list-cases", list, "print the cases' names, one per line, the longest first (for GNU parallel)");
+  bool list_read = false;
+  app.add_flag("--list-read-only", list_read,
+               "print the cases read where finished or kept but never run (with --study-only: the arrangements the rows are judged by)");
   app.add_option("--only", p.only, "run this case only (a name from --list-cases), no comparison");
   app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
   app.add_flag("--resume", p.resume, "continue cases stopped by SIGINT/SIGTERM from their checkpoints");
@@ -36,9 +39,9 @@ int main(int argc, char** argv) {
   if (p.quick) p.out_dir = "results/cell_free_layer_quick";
   if (!out.empty()) p.out_dir = out;
   try {
-    if (list) {
+    if (list || list_read) {
       for (const auto& c : rbc::cell_free_layer::cases(p))
-        if (!c.read_only) std::printf("%s\n", c.name.c_str());
+        if (c.read_only == list_read) std::printf("%s\n", c.name.c_str());
       return 0;
     }
     if (check && !p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (add --reuse after running the cases)");

@@ -368,16 +368,14 @@ std::string reported_case(const Results& res, const std::string& base) {
 
 double row_value(const CaseResult& r, bool re) { return re ? r.reynolds : r.distance * 1e6; }
 
-// One disk's height over the width W when its centre has travelled s W along the channel (its x1
-// unwrapped over the period), linearly between samples; NaN if the run ended before.
+// One disk's height over the width W when its centre has travelled s W along the channel (the
+// series' x1 is unwrapped: the travel is x1 − x1(0); a sample apart it may move more than half a
+// period), linearly between samples; NaN if the run ended before.
 double height_after_travel(const CaseResult& r, double s, double W) {
-  const double L = r.length;
   double travelled = 0, before = 0;
   for (std::size_t k = 1; k < r.t.size(); ++k) {
-    double dx = r.x[k][0] - r.x[k - 1][0];
-    dx -= L * std::round(dx / L);
     before = travelled;
-    travelled += dx;
+    travelled = r.x[k][0] - r.x[0][0];
     if (travelled >= s * W) {
       const double f = (s * W - before) / (travelled - before);
       return ((1 - f) * r.y[k - 1][0] + f * r.y[k][0]) / W;
@@ -472,7 +470,7 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
     std::snprintf(dt_us, sizeof dt_us, "%g", res.cases.at(*it).dt * 1e6);
     labels.push_back(dt_us);
   }
-  if (seq.size() < 3 && !p.quick) m.u.missing = "the Δt sequence (" + std::to_string(seq.size()) + " of 3 consecutive levels)";
+  const std::string dt_missing = seq.size() < 3 && !p.quick ? "the Δt sequence (" + std::to_string(seq.size()) + " of 3 consecutive levels)" : "";
   // The ensemble: the study's start and the perturbed ones, at the scene's Δt.
   const std::string family = r.spec.disks ? "disks" : "kb1";
   std::vector<double> members;
@@ -483,17 +481,18 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
     m.u.ensemble = sample_std(members);
     m.u.members = members.size();
   }
-  if (members.size() < p.seeds.size() + 1 && !p.quick)
-    m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the start ensemble (" + std::to_string(members.size()) + " of " +
-                   std::to_string(p.seeds.size() + 1) + ")";
+  const std::string ensemble_missing = members.size() < p.seeds.size() + 1 && !p.quick
+                                           ? "the start ensemble (" + std::to_string(members.size()) + " of " + std::to_string(p.seeds.size() + 1) + ")"
+                                           : "";
   const PairedLevels paired = paired_levels(p, res, base, re);
   if (paired.pairs >= 1) {
     // Paired starts at every level: the level means' steps, their noise the starts' spread over √n.
-    const std::size_t at = std::find(kPairedDts.begin(), kPairedDts.end(), r.dt) - kPairedDts.begin();
-    m.u.dt = grid_convergence_index(paired.means, 2.0, 1.0, int(std::min<std::size_t>(at, kPairedDts.size() - 1)),
+    std::size_t at = 0;  // the reported run's level (the nearest)
+    for (std::size_t l = 1; l < kPairedDts.size(); ++l)
+      if (std::abs(kPairedDts[l] - r.dt) < std::abs(kPairedDts[at] - r.dt)) at = l;
+    m.u.dt = grid_convergence_index(paired.means, 2.0, 1.0, int(at),
                                     paired.s / std::sqrt(double(paired.pairs + 1)));
     m.u.dt->label = "dt 0.75/1.5/3 us, means of " + std::to_string(paired.pairs + 1) + " paired starts";
-    m.u.missing.clear();
   } else if (seq.size() >= 2) {
     // The start ensemble's spread tells the Δt fit which level differences are noise.
     m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported, m.u.ensemble.value_or(NAN));
@@ -501,6 +500,9 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
     for (std::size_t k = 0; k < labels.size(); ++k) label += (k ? "/" : " ") + labels[k];
     m.u.dt->label = label + " us";
   }
+  // Missing parts: the Δt sequence (unless the paired starts gave the Δt part), the start ensemble.
+  for (const std::string& part : {paired.pairs >= 1 ? std::string() : dt_missing, ensemble_missing})
+    if (!part.empty()) m.u.missing += (m.u.missing.empty() ? "" : ", ") + part;
   // The window: the row's mean over the last ms, against the 4 ms before.
   if (!r.t.empty()) {
     std::vector<double> v(r.t.size());

@@ -73,17 +73,20 @@ void CheckpointWriter::commit(const std::string& path) const {
   if (fs::exists(path)) {
     // NAME.prev from a hard link of NAME (renamed over the old .prev), NAME itself untouched.
     const std::string link = path + ".prev.tmp." + std::to_string(::getpid());
-    fs::remove(link, ec);
+    std::error_code ignored;
+    fs::remove(link, ignored);
     fs::create_hard_link(path, link, ec);
+    if (ec) fs::copy_file(path, link, fs::copy_options::overwrite_existing, ec);  // (a file system without hard links)
     if (!ec) fs::rename(link, path + ".prev", ec);
     if (ec) {
-      fs::remove(tmp);
+      fs::remove(tmp, ignored);
       throw CheckpointError(path + ": cannot keep the previous checkpoint (" + ec.message() + ")");
     }
   }
   fs::rename(tmp, path, ec);
   if (ec) {
-    fs::remove(tmp);
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
     throw CheckpointError(path + ": cannot rename the new checkpoint into place (" + ec.message() + ")");
   }
   sync_folder(fs::path(path).parent_path().string());
@@ -104,7 +107,9 @@ void write_synced(const std::string& path, const void* data, std::size_t n) {
     }
     done += std::size_t(w);
   }
-  if (::fsync(fd) != 0 || ::close(fd) != 0) throw CheckpointError(path + ": cannot sync to the disk (" + std::strerror(errno) + ")");
+  const bool synced = ::fsync(fd) == 0;
+  const std::string why = synced ? "" : std::strerror(errno);
+  if (::close(fd) != 0 || !synced) throw CheckpointError(path + ": cannot sync to the disk (" + (synced ? std::strerror(errno) : why) + ")");
 }
 
 void sync_folder(const std::string& dir) {

@@ -224,27 +224,36 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       c.difference = fmt_difference(e.mean - *r.value);
       c.u_num = u ? fmt_uncertainty(*u) : "not measured";
       c.u_parts = m.u.describe();
+      c.converged_in_h = m.converged_in_h;
       c.how = m.how;
       if (!chosen.empty() && !m.readings.empty()) c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
       c.readings = format_readings(m.readings);
       char z[200];
       std::snprintf(z, sizeof z, "ensemble of %zu: mean %s, s %s, z = %s", e.values.size(), fmt(e.mean).c_str(), fmt(e.s).c_str(),
                     std::isfinite(e.z) ? fmt_difference(e.z).c_str() : "-");
-      if (!enough) {
+      const std::string believed =
+          known ? (known->shown_by.empty() ? "; believed: " + known->cause : "; " + known->cause + " Shown by: " + known->shown_by + ".") : "";
+      const Verdict outside = known && !known->shown_by.empty() ? Verdict::Deviation : Verdict::Unexplained;
+      if (e.values.size() < kEnsembleMinimum) {
         c.verdict = Verdict::Unresolved;
         c.note = std::string(z) + ": fewer than " + std::to_string(kEnsembleMinimum) + " members finished, a distribution cannot decide";
-      } else if (std::abs(e.z) <= 2 && u && distance <= allowed + u_mean) {
+      } else if (!enough) {
+        c.verdict = Verdict::Unresolved;
+        c.note = std::string(z) + ": the members agree exactly (s = 0): no spread to judge the study's value by";
+      } else if (std::abs(e.z) > 2) {  // the distribution alone decides
+        c.verdict = outside;
+        c.note = std::string(z) + ": the study's value is not a likely member of ours" + believed;
+      } else if (!u) {
+        c.verdict = Verdict::Unresolved;
+        c.note = std::string(z) + ": the mean's u_num not measured (" + (m.u.missing.empty() ? std::string("no part") : m.u.missing) + ")";
+      } else if (distance <= allowed + u_mean) {
         const bool decided = u_mean <= allowed;
         c.verdict = decided ? Verdict::Pass : Verdict::Unresolved;
         c.note = std::string(z) + ": the study's value a likely member of ours, the mean within the tolerance's reach" +
                  (decided ? "" : "; the mean's u_num " + c.u_num + " is larger than the tolerance: more members would decide");
-      } else if (!u) {
-        c.verdict = Verdict::Unresolved;
-        c.note = std::string(z) + ": the mean's u_num not measured (" + (m.u.missing.empty() ? std::string("no part") : m.u.missing) + ")";
       } else {
-        c.verdict = known && !known->shown_by.empty() ? Verdict::Deviation : Verdict::Unexplained;
-        c.note = std::string(z) + (std::abs(e.z) > 2 ? ": the study's value is not a likely member of ours" : ": the mean is beyond the tolerance's reach") +
-                 (known ? (known->shown_by.empty() ? "; believed: " + known->cause : "; " + known->cause + " Shown by: " + known->shown_by + ".") : "");
+        c.verdict = outside;
+        c.note = std::string(z) + ": the mean is beyond the tolerance's reach" + believed;
       }
     } else if (r.kind == "number") {
       double v = it->second.value.value_or(NAN);

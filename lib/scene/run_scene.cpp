@@ -34,8 +34,9 @@ namespace {
 // The files a run writes into its folder (run_scene, RunOutputs, VtkSeries), by name or pattern.
 bool is_run_file(const std::string& name) {
   // (Not scene.toml: the new run writes its own over it, and a user's scene file may bear the name.)
+  // code_id: a kept run's label (paper/keep_evidence.sh), which must not stay beside a new run.
   for (const char* f : {"checkpoint.bin", "checkpoint.bin.prev", "series.csv", "summary.json", "snapshots.dat", "frames.dat",
-                        "profile.csv", "membranes_final.dat", "vtk"})
+                        "profile.csv", "membranes_final.dat", "vtk", "code_id"})
     if (name == f) return true;
   return name.rfind("field_", 0) == 0 || name.rfind("checkpoint.bin.", 0) == 0;  // fields, temporaries
 }
