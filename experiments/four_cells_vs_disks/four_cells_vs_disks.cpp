@@ -899,7 +899,10 @@ Results run(const Params& p) {
       if (dts.size() >= 2) {
         m.u.dt = grid_convergence_index(dts, 2.0, 1.0);
         m.u.dt->label = label + " us at h = W/128";
+      } else {
+        m.u.missing = "the Δt levels at h = W/128";
       }
+      if (hs.size() < 2) m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the h levels";
       if (hs.size() >= 2) {
         const RefinementUncertainty h = grid_convergence_index(hs, 2.0, 1.0);
         char at[48];
