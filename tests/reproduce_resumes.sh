@@ -46,11 +46,11 @@ rc=0; wait "$pid" || rc=$?
 cmp -s "$work/straight/report/README.md" "$work/parallel_stopped/report/README.md" || { echo "a report was written after GNU parallel was interrupted"; exit 1; }
 diff -r "$work/straight/report" "$work/parallel_stopped/report" > /dev/null || { echo "the interrupted run changed the earlier report's figures or data"; exit 1; }
 
-# The rows (id, ours, verdict) of both reports, and every case's summary but what the clock writes.
+# The rows (id, ours, verdict) of both reports, and every case's summary but what the clock and the command line (its folder) write.
 rows() { cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
 diff <(rows straight) <(rows stopped)
 for c in n50 n100; do
-  diff <(grep -Ev '"(wall_seconds|started|ended)"' "$work/straight/cell_free_layer/$c/summary.json") <(grep -Ev '"(wall_seconds|started|ended)"' "$work/stopped/cell_free_layer/$c/summary.json")
+  diff <(grep -Ev '"(wall_seconds|started|ended|command)"' "$work/straight/cell_free_layer/$c/summary.json") <(grep -Ev '"(wall_seconds|started|ended|command)"' "$work/stopped/cell_free_layer/$c/summary.json")
 done
 echo "interrupted and resumed: the same rows and summaries as the straight run"
 
