@@ -658,14 +658,18 @@ void write_ensemble_files(const Params& p, const Results& res, const std::string
   }
   std::ofstream g(fs::path(p.out_dir) / ("spread_" + base + ".dat"));
   g << "# the layer (mean of the walls) over the " << names.size() << " arrangements at each ms: t (ms), mean (um), s (um), members\n";
+  std::vector<std::vector<double>> layers;  // each member's layer against its samples, um
+  for (const std::string& name : names) {
+    const CaseResult& c = res.cases.at(name);
+    layers.emplace_back(c.t.size());
+    for (std::size_t k = 0; k < c.t.size(); ++k) layers.back()[k] = 0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6;
+  }
   const CaseResult& first = res.cases.at(names.front());
   for (double ms = 0; ms <= first.t.back() * 1e3 + 1e-9; ms += 1) {
     std::vector<double> at;
-    for (const std::string& name : names) {
-      const CaseResult& c = res.cases.at(name);
-      const std::size_t k = case_runner::sample_at(c.t, ms * 1e-3);
-      if (k == std::string::npos) continue;
-      at.push_back(0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6);
+    for (std::size_t m = 0; m < names.size(); ++m) {
+      const double v = case_runner::value_at(res.cases.at(names[m]).t, layers[m], ms * 1e-3);
+      if (std::isfinite(v)) at.push_back(v);
     }
     if (at.size() < 2) continue;
     double mean = 0;

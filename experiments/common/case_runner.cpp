@@ -89,9 +89,12 @@ std::string convergence_table(std::vector<ConvergenceRow> rows, const std::strin
   return md.str();
 }
 
-std::size_t sample_at(const std::vector<double>& t, double at, double half) {
-  const auto it = std::lower_bound(t.begin(), t.end(), at - half);
-  return it != t.end() && *it <= at + half ? std::size_t(it - t.begin()) : std::string::npos;
+double value_at(const std::vector<double>& t, const std::vector<double>& v, double at) {
+  if (t.empty() || at < t.front() || at > t.back()) return NAN;
+  const std::size_t k = std::size_t(std::lower_bound(t.begin(), t.end(), at) - t.begin());
+  if (t[k] == at || k == 0) return v[k];
+  const double f = (at - t[k - 1]) / (t[k] - t[k - 1]);
+  return (1 - f) * v[k - 1] + f * v[k];
 }
 
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o) {

@@ -8,7 +8,7 @@
 //                  (failure.txt: the scene's source, its Δt, then why), so that a collecting
 //                  --check --reuse neither reruns a finished case nor a failed one;
 //   window_mean    the mean of a sampled series over t ≥ from (the rows' "last millisecond");
-//   sample_at      the sample of a series at a common instant (curves compared over time);
+//   value_at       a series at a common instant, between its samples (curves compared over time);
 //   symmetric_unit a uniform number in [−1, 1) from a Mersenne twister's raw 32-bit output (the
 //                  same on every platform, unlike std::uniform_real_distribution): the ensembles'
 //                  perturbed starts;
@@ -55,9 +55,10 @@ inline const std::string kNotRun = "not run (--collect)";
 CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseRunOptions& o);
 
 double window_mean(const std::vector<double>& t, const std::vector<double>& v, double from);
-// The first sample (index into the sorted times t, s) within `half` of the instant `at`, s, or
-// npos: a curve read at common instants (a sample lands on the first step at or past its time).
-std::size_t sample_at(const std::vector<double>& t, double at, double half = 5e-5);
+// A sampled series v(t) at the instant `at`, s, linearly between the two samples around it (a
+// run samples at the first step at or past each interval, and kept series are thinned: curves are
+// compared at common instants); NaN outside [t.front(), t.back()].
+double value_at(const std::vector<double>& t, const std::vector<double>& v, double at);
 
 // A row's value under each reading of U, "the averaged velocity in the channel" (the study's
 // Section 2; reference-data/readings.csv), from a run's series.csv: the window_mean over t ≥ from of

@@ -594,15 +594,14 @@ std::string paired_table(const Params& p, const Results& res) {
       md << b;
       for (const std::string& name : runs) {
         const CaseResult& c = res.cases.at(name);
-        const std::size_t k = case_runner::sample_at(c.t, ms * 1e-3);
-        if (k == std::string::npos) {
-          md << " - |";
-          continue;
-        }
-        const auto& y = c.y[k];
-        double d = 0;
-        for (double yb : y) d += std::abs(yb - 25e-6) / 4;
-        std::snprintf(b, sizeof b, " %.4f |", d * 1e6);
+        std::vector<double> d(c.t.size(), 0.0);  // the mean distance from the centreline, m
+        for (std::size_t k = 0; k < c.t.size(); ++k)
+          for (double yb : c.y[k]) d[k] += std::abs(yb - 25e-6) / 4;
+        const double at = case_runner::value_at(c.t, d, ms * 1e-3);
+        if (std::isfinite(at))
+          std::snprintf(b, sizeof b, " %.4f |", at * 1e6);
+        else
+          std::snprintf(b, sizeof b, " - |");
         md << b;
       }
       md << "\n";
