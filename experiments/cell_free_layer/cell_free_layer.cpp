@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
@@ -115,6 +116,24 @@ Scene case_scene(const Case& c, bool quick) {
   return s;
 }
 
+namespace {
+
+// The pressure forms' ladder: a case's name (projection "study" or "incremental").
+std::string form_case_name(const std::string& projection, double dt) {
+  char b[64];
+  std::snprintf(b, sizeof b, "n100_early_%s_dt%gus", projection == "study" ? "study" : "inc", dt * 1e6);
+  return b;
+}
+
+// The layer (mean of the walls' gaps) at each sample of a run, um.
+std::vector<double> layer_series_um(const CaseResult& c) {
+  std::vector<double> v(c.t.size());
+  for (std::size_t k = 0; k < c.t.size(); ++k) v[k] = 0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6;
+  return v;
+}
+
+}  // namespace
+
 std::vector<Case> cases(const Params& p) {
   std::vector<Case> v;
   auto make = [](std::string name, std::string role, int n, unsigned seed) {
@@ -161,9 +180,7 @@ std::vector<Case> cases(const Params& p) {
     // The study's form of the pressure against the incremental one over a Δt ladder to kEarlyEnd.
     for (double dt : kFormDts)
       for (const char* form : {"study", "incremental"}) {
-        char name[64];
-        std::snprintf(name, sizeof name, "n100_early_%s_dt%gus", form == std::string("study") ? "study" : "inc", dt * 1e6);
-        Case c = make(name, "form", 100, 1);
+        Case c = make(form_case_name(form, dt), "form", 100, 1);
         c.projection = form;
         c.dt = dt;
         c.end = kEarlyEnd;
@@ -398,21 +415,12 @@ std::string ensemble_table(const Params& p, const Results& res) {
 // four levels, first order): does the study's form converge to the other's answer?
 std::string form_table(const Results& res) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
-  auto name = [](const char* form, double dt) {
-    char b[64];
-    std::snprintf(b, sizeof b, "n100_early_%s_dt%gus", form, dt * 1e6);
-    return std::string(b);
-  };
-  auto layer = [&](const CaseResult& c) {
-    std::vector<double> v(c.t.size());
-    for (std::size_t k = 0; k < c.t.size(); ++k) v[k] = 0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6;
-    return case_runner::window_mean(c.t, v, kEarlyFrom);
-  };
+  auto layer = [&](const CaseResult& c) { return case_runner::window_mean(c.t, layer_series_um(c), kEarlyFrom); };
   std::ostringstream md;
   bool any = false;
   std::map<std::string, std::vector<double>> layers, res_;
   for (double dt : kFormDts) {
-    const std::string a = name("study", dt), b = name("inc", dt);
+    const std::string a = form_case_name("study", dt), b = form_case_name("incremental", dt);
     if (!ok(a) && !ok(b)) continue;
     if (!any)
       md << "\nThe study's form of the pressure against the incremental form (100 cells, seed 1, h = 0.3125 um, from rest to " << kEarlyEnd * 1e3
@@ -534,6 +542,26 @@ std::string convergence_table(const Params& p, const Results& res) {
 
 namespace {
 
+// The column "converged in h": what h -> 0 does to seed 1 at 3 us, from its 2h run (second order).
+std::string converged_in_h(const Results& res, const std::string& base, const std::function<double(const CaseResult&)>& value) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  if (!ok(base) || !ok(base + "_h0.625um")) return "";
+  const auto h = grid_convergence_index({value(res.cases.at(base)), value(res.cases.at(base + "_h0.625um"))}, 2.0, 2.0);
+  char b[160];
+  std::snprintf(b, sizeof b, "h -> 0 moves seed 1 by %+.2g (the 2h run, second order)", h.extrapolated - value(res.cases.at(base)));
+  return b;
+}
+
+// How a row's run was made (the report's column), from the run.
+std::string how_run(const CaseResult& r) {
+  char how[300];
+  std::snprintf(how, sizeof how,
+                "semi-implicit coupling (not the study's explicit one), dt = %g us, h = %g um; incremental pressure form (not the study's); %s; "
+                "area term (7) during the flow",
+                r.dt * 1e6, r.h * 1e6, r.spec.repulsion > 0 ? "membrane repulsion on (not in the study's model)" : "no repulsion");
+  return how;
+}
+
 // A member's Re under each reading of U (reference-data/readings.csv), over its last ms.
 std::vector<std::pair<std::string, double>> re_readings(const Params& p, const CaseResult& c) {
   return case_runner::u_readings((fs::path(p.out_dir) / c.spec.name / "series.csv").string(), c.t.back() - kWindow,
@@ -557,10 +585,17 @@ std::vector<std::string> reported_members(const Params& p, const Results& res, c
 Measured ensemble_row(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   // Every value of the row under the reading the study is read with (Re: reference-data/readings.csv).
+  // Each case's readings are read from its series once.
   const std::string chosen = re ? chosen_reading(load_readings(readings_path())) : "";
+  std::map<std::string, std::vector<std::pair<std::string, double>>> readings;
+  auto readings_of = [&](const CaseResult& c) -> const std::vector<std::pair<std::string, double>>& {
+    auto it = readings.find(c.spec.name);
+    if (it == readings.end()) it = readings.emplace(c.spec.name, re ? re_readings(p, c) : std::vector<std::pair<std::string, double>>{}).first;
+    return it->second;
+  };
   auto value = [&](const CaseResult& c) {
     if (!re) return c.layer * 1e6;
-    for (const auto& [id, v] : re_readings(p, c))
+    for (const auto& [id, v] : readings_of(c))
       if (id == chosen) return v;
     return c.re;
   };
@@ -568,7 +603,7 @@ Measured ensemble_row(const Params& p, const Results& res, const std::string& ba
   std::vector<double> values;
   for (const std::string& name : reported_members(p, res, base)) {
     const CaseResult& c = res.cases.at(name);
-    m.ensemble.push_back({name, re ? c.re : c.layer * 1e6, re ? re_readings(p, c) : std::vector<std::pair<std::string, double>>{}, c.code});
+    m.ensemble.push_back({name, re ? c.re : c.layer * 1e6, readings_of(c), c.code});
     values.push_back(value(c));
   }
   // The value (the members' mean; the u_num record needs one): compare_with_reference judges the members.
@@ -595,19 +630,8 @@ Measured ensemble_row(const Params& p, const Results& res, const std::string& ba
   } else {
     m.u.missing = "the arrangements at 3 us";
   }
-  if (ok(base) && ok(base + "_h0.625um")) {
-    const auto h = grid_convergence_index({value(res.cases.at(base)), value(res.cases.at(base + "_h0.625um"))}, 2.0, 2.0);
-    char b[160];
-    std::snprintf(b, sizeof b, "h -> 0 moves seed 1 by %+.2g (the 2h run, second order)", h.extrapolated - value(res.cases.at(base)));
-    m.converged_in_h = b;
-  }
-  const CaseResult& r = res.cases.at(base + "_dt1.5us");
-  char how[300];
-  std::snprintf(how, sizeof how,
-                "the mean of %zu arrangements; semi-implicit coupling (not the study's explicit one), dt = %g us, h = %g um; incremental pressure "
-                "form (not the study's); %s; area term (7) during the flow",
-                values.size(), r.dt * 1e6, r.h * 1e6, r.spec.repulsion > 0 ? "membrane repulsion on (not in the study's model)" : "no repulsion");
-  m.how = how;
+  m.converged_in_h = converged_in_h(res, base, value);
+  m.how = "the mean of " + std::to_string(values.size()) + " arrangements; " + how_run(res.cases.at(base + "_dt1.5us"));
   return m;
 }
 
@@ -659,11 +683,7 @@ void write_ensemble_files(const Params& p, const Results& res, const std::string
   std::ofstream g(fs::path(p.out_dir) / ("spread_" + base + ".dat"));
   g << "# the layer (mean of the walls) over the " << names.size() << " arrangements at each ms: t (ms), mean (um), s (um), members\n";
   std::vector<std::vector<double>> layers;  // each member's layer against its samples, um
-  for (const std::string& name : names) {
-    const CaseResult& c = res.cases.at(name);
-    layers.emplace_back(c.t.size());
-    for (std::size_t k = 0; k < c.t.size(); ++k) layers.back()[k] = 0.5 * (c.gap_lower[k] + c.gap_upper[k]) * 1e6;
-  }
+  for (const std::string& name : names) layers.push_back(layer_series_um(res.cases.at(name)));
   const CaseResult& first = res.cases.at(names.front());
   for (double ms = 0; ms <= first.t.back() * 1e3 + 1e-9; ms += 1) {
     std::vector<double> at;
@@ -708,19 +728,9 @@ Measured with_uncertainty(const Params& p, const Results& res, const std::string
   } else {
     m.u.missing = "the Δt-halved run";
   }
-  std::vector<double> v(r.t.size());
-  for (std::size_t k = 0; k < r.t.size(); ++k) v[k] = re ? r.reynolds[k] : 0.5 * (r.gap_lower[k] + r.gap_upper[k]) * 1e6;
-  m.u.window = window_noise(r.t, v, kWindow, 5);
-  if (ok(base) && ok(base + "_h0.625um")) {
-    const auto h = grid_convergence_index({value(res.cases.at(base)), value(res.cases.at(base + "_h0.625um"))}, 2.0, 2.0);
-    char b[160];
-    std::snprintf(b, sizeof b, "h -> 0 moves it by %+.2g (the 2h run, second order)", h.extrapolated - value(res.cases.at(base)));
-    m.converged_in_h = b;
-  }
-  char how[260];
-  std::snprintf(how, sizeof how, "semi-implicit coupling (not the study's explicit one), dt = %g us, h = %g um; incremental pressure form (not the study's); %s; area term (7) during the flow",
-                r.dt * 1e6, r.h * 1e6, r.spec.repulsion > 0 ? "membrane repulsion on (not in the study's model)" : "no repulsion");
-  m.how = how;
+  m.u.window = window_noise(r.t, re ? r.reynolds : layer_series_um(r), kWindow, 5);
+  m.converged_in_h = converged_in_h(res, base, value);
+  m.how = how_run(r);
   return m;
 }
 

@@ -59,6 +59,16 @@ std::string case_label(const Case& c) {
   return b;
 }
 
+// A case's name at Δt level dt (s) from start seed (0: the study's places): kb1_dt1.5us, kb1_seed2_dt3us.
+std::string level_name(const std::string& base, unsigned seed, double dt) {
+  char b[64];
+  if (seed == 0)
+    std::snprintf(b, sizeof b, "%s_dt%gus", base.c_str(), dt * 1e6);
+  else
+    std::snprintf(b, sizeof b, "%s_seed%u_dt%gus", base.c_str(), seed, dt * 1e6);
+  return b;
+}
+
 // The Δt levels of a study case, coarsest first: the scene's 6 us, then halved (cases()).
 std::vector<std::string> dt_levels(const std::string& base) {
   std::vector<std::string> v = {base, base + "_dt3us", base + "_dt1.5us"};
@@ -191,9 +201,7 @@ std::vector<Case> cases(const Params& p) {
       for (double dt : kPairedDts)
         for (unsigned s : p.paired_seeds) {
           Case c = body(base);
-          char name[64];
-          std::snprintf(name, sizeof name, "%s_seed%u_dt%gus", base.c_str(), s, dt * 1e6);
-          c.name = name;
+          c.name = level_name(base, s, dt);
           c.role = "paired";
           c.seed = s;
           c.dt = dt;
@@ -411,15 +419,6 @@ struct PairedLevels {
   int pairs = 0;  // perturbed starts besides the study's places
   std::vector<std::vector<double>> values;  // [level][start], the study's places first
 };
-
-std::string level_name(const std::string& base, unsigned seed, double dt) {
-  char b[64];
-  if (seed == 0)
-    std::snprintf(b, sizeof b, "%s_dt%gus", base.c_str(), dt * 1e6);
-  else
-    std::snprintf(b, sizeof b, "%s_seed%u_dt%gus", base.c_str(), seed, dt * 1e6);
-  return b;
-}
 
 PairedLevels paired_levels(const Params& p, const Results& res, const std::string& base, bool re) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
