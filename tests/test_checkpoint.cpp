@@ -1,16 +1,19 @@
-// Checkpoints (issue 5): a damaged file is refused, a run stopped by SIGTERM and resumed gives
-// bit for bit the series and summary of the run that went straight through, and a checkpoint of
-// another scene is refused with the key that differs.
+// Checkpoints: a damaged file is refused, a run stopped by SIGTERM and resumed gives bit for bit
+// the series and summary of the run that went straight through, a newest checkpoint that cannot
+// continue the run gives way to the previous one, and a checkpoint of another scene or code is
+// refused with what differs. (Killed at random instants: tests/kill_resume.sh.)
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <omp.h>
 
 #include "io/checkpoint.hpp"
 #include "io/provenance.hpp"
@@ -181,6 +184,80 @@ TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {
   EXPECT_EQ(summary_without_wall_time(dir), summary_without_wall_time(straight));
 }
 
+// A crash of the machine between a checkpoint and the sync of series.csv (or a series cut by hand)
+// leaves the series shorter than the newest checkpoint recorded: the previous checkpoint, whose
+// series is whole, continues the run (it stopped the resume before).
+TEST(Checkpoint, ASeriesShorterThanTheNewestCheckpointExpectsFallsBackToThePreviousOne) {
+  const Scene scene = two_cell_scene("explicit");
+  const fs::path straight = fs::temp_directory_path() / "rbcflow_ckpt_short_series_straight";
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_short_series";
+  fs::remove_all(straight);
+  fs::remove_all(dir);
+  run_scene(scene, {.out_dir = straight.string(), .threads = 1, .progress = false});
+  RunOptions o{.out_dir = dir.string(), .threads = 1, .progress = false, .checkpoint_sim = 10 * scene.dt};
+  o.after_step = [](long step) {
+    if (step == 35) std::raise(SIGINT);  // checkpoints at steps 30 (.prev) and 35; samples every 4 steps
+  };
+  EXPECT_THROW(run_scene(scene, o), RunInterrupted);
+  ASSERT_TRUE(fs::exists(dir / "checkpoint.bin.prev"));
+  {  // the series without its last row (step 32's, written after the checkpoint of step 30)
+    const std::string series = read_all(dir / "series.csv");
+    const std::size_t last = series.rfind('\n', series.size() - 2);
+    ASSERT_NE(last, std::string::npos);
+    fs::resize_file(dir / "series.csv", last + 1);
+  }
+  o.after_step = nullptr;
+  o.resume = true;
+  testing::internal::CaptureStderr();
+  run_scene(scene, o);
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("series.csv is shorter"), std::string::npos) << said;
+  EXPECT_NE(said.find("resuming from"), std::string::npos) << said;
+  EXPECT_EQ(read_all(dir / "series.csv"), read_all(straight / "series.csv"));
+  EXPECT_EQ(summary_without_wall_time(dir), summary_without_wall_time(straight));
+}
+
+// Only checkpoint.bin.prev left (the newest removed or lost): the folder still holds a checkpoint
+// for every program that resumes (the experiments tested for checkpoint.bin alone and started
+// afresh).
+TEST(Checkpoint, APreviousCheckpointAloneIsStillResumed) {
+  const Scene scene = two_cell_scene("explicit");
+  const fs::path straight = fs::temp_directory_path() / "rbcflow_ckpt_prev_alone_straight";
+  const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_prev_alone";
+  fs::remove_all(straight);
+  fs::remove_all(dir);
+  run_scene(scene, {.out_dir = straight.string(), .threads = 1, .progress = false});
+  RunOptions o{.out_dir = dir.string(), .threads = 1, .progress = false, .checkpoint_sim = 10 * scene.dt};
+  o.after_step = [](long step) {
+    if (step == 35) std::raise(SIGTERM);
+  };
+  EXPECT_THROW(run_scene(scene, o), RunInterrupted);
+  fs::remove(dir / "checkpoint.bin");
+  EXPECT_TRUE(has_checkpoint(dir.string()));
+  EXPECT_FALSE(has_checkpoint(straight.string() + "_none"));
+  o.after_step = nullptr;
+  o.resume = true;
+  run_scene(scene, o);
+  EXPECT_EQ(read_all(dir / "series.csv"), read_all(straight / "series.csv"));
+}
+
+// Threads not given: one under GNU parallel or a Slurm array, a Slurm task's CPUs, else OpenMP's.
+TEST(Threads, TheDefaultIsOneUnderAJobPoolAndTheTasksCpusUnderSlurm) {
+  for (const char* v : {"PARALLEL_SEQ", "SLURM_ARRAY_TASK_ID", "SLURM_CPUS_PER_TASK"}) unsetenv(v);
+  EXPECT_EQ(default_threads(), omp_get_max_threads());
+  setenv("PARALLEL_SEQ", "3", 1);
+  EXPECT_EQ(default_threads(), 1);
+  unsetenv("PARALLEL_SEQ");
+  setenv("SLURM_ARRAY_TASK_ID", "7", 1);
+  EXPECT_EQ(default_threads(), 1);
+  setenv("SLURM_CPUS_PER_TASK", "3", 1);
+  EXPECT_EQ(default_threads(), 3);
+  setenv("SLURM_CPUS_PER_TASK", "none", 1);
+  EXPECT_EQ(default_threads(), 1);
+  unsetenv("SLURM_ARRAY_TASK_ID");
+  unsetenv("SLURM_CPUS_PER_TASK");
+}
+
 TEST(Checkpoint, ACheckpointOfAnotherSceneOrVersionOrNoCheckpointIsRefused) {
   Scene scene = two_cell_scene("explicit");
   const fs::path dir = fs::temp_directory_path() / "rbcflow_ckpt_other_scene";
@@ -217,6 +294,13 @@ TEST(Checkpoint, ACheckpointOfAnotherSceneOrVersionOrNoCheckpointIsRefused) {
   const std::string v = error_of([&] { run_scene(scene, o); });
   EXPECT_NE(v.find("written by code " + std::string(std::string(code_id()).size(), '9') + ", this is code " + code_id()), std::string::npos) << v;
   EXPECT_THROW(checkpoint_scene(dir.string()), CheckpointError);  // rbcflow resume: refused too
+  // ... unless asked (rbcflow resume --any-code), which says so.
+  o.any_code = true;
+  EXPECT_EQ(scene_to_toml(checkpoint_scene(dir.string(), true)), scene_to_toml(scene));
+  testing::internal::CaptureStderr();
+  run_scene(scene, o);
+  const std::string said = testing::internal::GetCapturedStderr();
+  EXPECT_NE(said.find("--any-code"), std::string::npos) << said;
 }
 
 TEST(Checkpoint, AnUnstableRunStopsNamingTheCauseAndKeepsItsLastGoodCheckpoint) {

@@ -40,7 +40,7 @@ Results run(const Params& p) {
     const Scene scene = load_scene_file(scene_path, overrides);
     const std::string out = (std::filesystem::path(p.out_dir) / which).string();
     ChannelResult r;
-    const bool resume = p.resume && std::filesystem::exists(std::filesystem::path(out) / "checkpoint.bin");
+    const bool resume = p.resume && rbc::has_checkpoint(out);
     r.summary = run_scene(scene, {.out_dir = out, .threads = p.threads, .progress = p.progress, .label = which, .resume = resume});
 
     // Compare with the exact solutions: the parabola at the end, the mean during start-up.

@@ -120,7 +120,7 @@ CaseRun run_or_reuse(const Scene& scene, const std::string& out_dir, const CaseR
       return r;
     }
     fs::remove(failed);
-    const bool resume = o.resume && !done && fs::exists(out / "checkpoint.bin");
+    const bool resume = o.resume && !done && has_checkpoint(out.string());
     if (done) std::getline(std::ifstream(out / "code_id"), r.code);  // a kept run (paper/keep_evidence.sh)
     r.summary = done ? *done
                      : run_scene(scene, {.out_dir = out.string(), .threads = o.threads, .progress = o.progress, .label = o.label,

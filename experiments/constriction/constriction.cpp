@@ -178,7 +178,7 @@ Results run(const Params& p) {
   else if (p.collect)
     throw std::runtime_error("--collect: no finished run of today's scene in " + out.string() + " (run it without --collect)");
   else {
-    const bool resume = p.resume && fs::exists(out / "checkpoint.bin");
+    const bool resume = p.resume && has_checkpoint(out.string());
     res.summary = run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress, .label = "constriction",
                                     .checkpoint_wall = 300, .resume = resume});
   }

@@ -1,6 +1,6 @@
 // rbcflow — the generic scene runner (SPEC section 8).
 //   build/bin/rbcflow run SCENE.toml --out DIR [--threads N] [--set key=value ...]
-//   build/bin/rbcflow resume DIR [--threads N]     (continue from DIR/checkpoint.bin to the end)
+//   build/bin/rbcflow resume DIR [--threads N] [--any-code]  (continue from DIR's newest usable checkpoint to the end)
 //   build/bin/rbcflow summary [--results DIR] [EXPERIMENT ...]
 //                     the table of all the study's numbers (Markdown), from DIR/<experiment>/check.csv
 // Exit codes: 0 done; 1 internal error; 2 bad input (scene, scene file, checkpoint, output folder);
@@ -39,9 +39,11 @@ int main(int argc, char** argv) {
   run->add_flag("--overwrite", overwrite, "clear another run's files from the output folder first (without it such a folder is refused)");
   CLI::App* resume = app.add_subcommand("resume", "continue a stopped run from the newest valid checkpoint in its folder");
   resume->add_option("dir", resume_dir, "output folder of the stopped run")->required();
+  bool any_code = false;
+  resume->add_flag("--any-code", any_code, "continue a checkpoint written by other code (refused without it; named on stderr)");
   for (CLI::App* sub : {run, resume}) {
-    sub->add_option("--threads", threads, "OpenMP threads (default: all cores; resume with the same number for identical results)")
-        ->check(CLI::Range(1, 256));
+    sub->add_option("--threads", threads, std::string(rbc::kThreadsHelp) + "; resume with the same number for identical results")
+        ->check(CLI::Range(0, 256));
     sub->add_option("--checkpoint-wall", checkpoint_wall, "seconds of wall-clock time between checkpoints (0: none)")
         ->check(CLI::Range(0.0, 1e9))->capture_default_str();
     sub->add_option("--checkpoint-sim", checkpoint_sim, "seconds of simulated time between checkpoints (0: none)")
@@ -68,14 +70,14 @@ int main(int argc, char** argv) {
     rbc::Scene scene;
     if (resume->parsed()) {
       out_dir = resume_dir;
-      scene = rbc::checkpoint_scene(resume_dir);
+      scene = rbc::checkpoint_scene(resume_dir, any_code);
     } else {
       scene = rbc::load_scene_file(scene_path, overrides);
       if (out_dir.empty()) out_dir = "results/" + std::filesystem::path(scene_path).stem().string();
     }
     const rbc::RunSummary s = rbc::run_scene(scene, {.out_dir = out_dir, .threads = threads, .progress = !quiet,
                                                      .checkpoint_wall = checkpoint_wall, .checkpoint_sim = checkpoint_sim,
-                                                     .resume = resume->parsed(), .refuse_other_run = !overwrite});
+                                                     .resume = resume->parsed(), .any_code = any_code, .refuse_other_run = !overwrite});
     std::printf("%ld steps to t = %.6g s in %.2f s; mean velocity %.6g m/s, Re = %.6g; outputs in %s\n", s.steps,
                 s.t_end, s.wall_seconds, s.mean_velocity, s.reynolds, out_dir.c_str());
     return 0;

@@ -112,6 +112,16 @@ void write_synced(const std::string& path, const void* data, std::size_t n) {
   if (::close(fd) != 0 || !synced) throw CheckpointError(path + ": cannot sync to the disk (" + (synced ? std::strerror(errno) : why) + ")");
 }
 
+bool sync_file(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool synced = ::fsync(fd) == 0;
+  const int err = errno;
+  ::close(fd);
+  errno = err;
+  return synced;
+}
+
 void sync_folder(const std::string& dir) {
   const int fd = ::open(dir.empty() ? "." : dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (fd < 0) return;  // (a folder that cannot be opened for reading: its renames stand unsynced)

@@ -52,6 +52,9 @@ class CheckpointWriter {
 // Writes n bytes to path and syncs them to the disk (open, write, fsync, close), or throws
 // CheckpointError naming the file and the system's reason (the caller removes what it made).
 void write_synced(const std::string& path, const void* data, std::size_t n);
+// Syncs a file's data written so far through any stream to the disk (open, fsync, close); false
+// with errno set where it cannot.
+bool sync_file(const std::string& path);
 // Syncs a folder's entries (its renames) to the disk; silently nothing where it cannot be opened.
 void sync_folder(const std::string& dir);
 

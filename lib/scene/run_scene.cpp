@@ -1,9 +1,11 @@
 #include "scene/run_scene.hpp"
 
+#include <array>
 #include <cerrno>
 #include <csignal>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -187,6 +189,11 @@ struct RunState {
   std::int64_t next_snapshot = 0, vtk_count = 0, next_frame = 0;
   double wall_seconds = 0;  // spent before this session
 
+  // The output files whose lengths the checkpoint records (0: the file is not written).
+  std::array<std::pair<const char*, std::int64_t>, 3> output_lengths() const {
+    return {{{"series.csv", series_bytes}, {"snapshots.dat", snapshot_bytes}, {"frames.dat", frame_bytes}}};
+  }
+
   void save(CheckpointWriter& w) const {
     w.put(series_bytes);
     w.put(snapshot_bytes);
@@ -236,31 +243,42 @@ struct CheckpointHeader {
 };
 
 // Reads the header; a checkpoint written by other code is refused (its state need not be this
-// code's: a run must not continue with other arithmetic than it started with).
-CheckpointHeader read_header(CheckpointReader& r) {
+// code's: a run must not continue with other arithmetic than it started with) unless any_code
+// (rbcflow resume --any-code), which names both codes on stderr.
+CheckpointHeader read_header(CheckpointReader& r, bool any_code) {
   CheckpointHeader h;
   h.code = r.get_string();
-  if (h.code != code_id())
-    throw CheckpointError(r.path() + ": written by code " + h.code + ", this is code " + code_id() +
-                          "; rerun the scene from the start, or resume with the build of that code");
+  if (h.code != code_id()) {
+    if (!any_code)
+      throw CheckpointError(r.path() + ": written by code " + h.code + ", this is code " + code_id() +
+                            "; rerun the scene from the start, resume with the build of that code, or accept it with --any-code");
+    std::fprintf(stderr, "rbcflow: warning: %s was written by code %s, this is code %s: continued as asked (--any-code); the run "
+                 "mixes the arithmetic of two codes\n", r.path().c_str(), h.code.c_str(), code_id());
+  }
   h.source = r.get_string();
   h.scene_toml = r.get_string();
   h.threads = r.get_int();
   return h;
 }
 
-// The newest valid checkpoint of dir: checkpoint.bin, else checkpoint.bin.prev (with a warning).
-CheckpointReader open_checkpoint(const fs::path& dir) {
+// Tries each checkpoint of dir, newest first, with use(reader); the first that use() accepts
+// (returns without CheckpointError) wins. Where a newer one was refused the reason is printed
+// before the older one is used; where none is usable, CheckpointError with every reason.
+template <class Use>
+auto with_newest_usable_checkpoint(const fs::path& dir, Use use) {
   const fs::path newest = dir / "checkpoint.bin", previous = dir / "checkpoint.bin.prev";
-  if (!fs::exists(newest) && !fs::exists(previous))
-    throw CheckpointError(dir.string() + ": no checkpoint to resume from (checkpoint.bin)");
+  if (!has_checkpoint(dir.string())) throw CheckpointError(dir.string() + ": no checkpoint to resume from (checkpoint.bin)");
   std::string why;
   for (const fs::path& p : {newest, previous}) {
-    if (!fs::exists(p)) continue;
+    if (!fs::exists(p)) {
+      why += (why.empty() ? "" : "; ") + p.string() + ": missing";
+      continue;
+    }
     try {
       CheckpointReader r(p.string());
+      auto result = use(r);
       if (p == previous) std::fprintf(stderr, "rbcflow: warning: %s; resuming from %s\n", why.c_str(), p.c_str());
-      return r;
+      return result;
     } catch (const CheckpointError& e) {
       why += (why.empty() ? "" : "; ") + std::string(e.what());
     }
@@ -281,54 +299,75 @@ void write_checkpoint(const fs::path& dir, const Scene& scene, const Simulation&
 
 }  // namespace
 
-Scene checkpoint_scene(const std::string& dir) {
-  CheckpointReader r = open_checkpoint(dir);
-  const CheckpointHeader h = read_header(r);
-  try {
-    Scene s = parse_scene(h.scene_toml, r.path() + " (its scene)");
-    s.source = h.source;
-    return s;
-  } catch (const SceneError& e) {
-    throw CheckpointError(std::string("the scene stored in the checkpoint is not valid: ") + e.what());
+int default_threads() {
+  auto env = [](const char* name) { const char* v = std::getenv(name); return v && *v ? std::string(v) : std::string(); };
+  if (const std::string n = env("SLURM_CPUS_PER_TASK"); !n.empty()) {
+    const int k = std::atoi(n.c_str());
+    if (k >= 1) return k;
   }
+  if (!env("PARALLEL_SEQ").empty() || !env("SLURM_ARRAY_TASK_ID").empty()) return 1;
+  return omp_get_max_threads();
+}
+
+bool has_checkpoint(const std::string& dir) {
+  return fs::exists(fs::path(dir) / "checkpoint.bin") || fs::exists(fs::path(dir) / "checkpoint.bin.prev");
+}
+
+Scene checkpoint_scene(const std::string& dir, bool any_code) {
+  return with_newest_usable_checkpoint(dir, [&](CheckpointReader& r) {
+    const CheckpointHeader h = read_header(r, any_code);
+    try {
+      Scene s = parse_scene(h.scene_toml, r.path() + " (its scene)");
+      s.source = h.source;
+      return s;
+    } catch (const SceneError& e) {
+      throw CheckpointError(r.path() + ": the scene stored in it is not valid: " + e.what());
+    }
+  });
 }
 
 void load_checkpoint(const std::string& dir, Simulation& sim) {
-  CheckpointReader r = open_checkpoint(dir);
-  read_header(r);
-  sim.load(r);
+  with_newest_usable_checkpoint(dir, [&](CheckpointReader& r) {
+    read_header(r, false);
+    sim.load(r);
+    return 0;
+  });
 }
 
 namespace {
 
-// Resuming: the newest valid checkpoint in out, which must be of this scene and version, loaded
-// into sim; the outputs are cut back to their lengths at the checkpoint.
-RunState resume_run(const fs::path& out, const Scene& scene, Simulation& sim, bool progress) {
-  CheckpointReader r = open_checkpoint(out);
-  const CheckpointHeader h = read_header(r);
-  const std::vector<std::string> a = scene_lines(h.scene_toml), b = scene_lines(scene_to_toml(scene));
-  if (a != b) {
-    std::size_t k = 0;
-    while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
-    throw CheckpointError(r.path() + ": written for another scene (checkpoint: '" + (k < a.size() ? a[k] : "(end)") +
-                          "', this scene: '" + (k < b.size() ? b[k] : "(end)") + "')");
-  }
-  if (h.threads != omp_get_max_threads() && progress)
-    std::fprintf(stderr, "rbcflow: note: the checkpoint was written with %lld threads, this run has %d: the results "
-                 "may differ from an uninterrupted run at round-off level\n", (long long)h.threads, omp_get_max_threads());
-  sim.load(r);
-  RunState resumed = RunState::load(r);
-  if (!r.at_end()) throw CheckpointError(r.path() + ": unexpected data after the run state (written by another version?)");
-  for (const auto& [name, bytes] : {std::pair{"series.csv", resumed.series_bytes}, std::pair{"snapshots.dat", resumed.snapshot_bytes},
-                                    std::pair{"frames.dat", resumed.frame_bytes}}) {
-    if (bytes == 0) continue;
-    std::error_code ec;
-    const auto size = fs::file_size(out / name, ec);
-    if (ec || std::int64_t(size) < bytes)
-      throw CheckpointError((out / name).string() + ": shorter than when the checkpoint was written; cannot resume");
-    fs::resize_file(out / name, std::uintmax_t(bytes));
-  }
-  if (progress) std::fprintf(stderr, "rbcflow: resuming %s at t = %.6g s (step %ld) from %s\n", out.string().c_str(), sim.time(), long(sim.steps()), r.path().c_str());
+// Resuming: the newest checkpoint in out that is whole, of this scene and code, and whose outputs
+// (series.csv, snapshots.dat, frames.dat) are at least as long as it recorded, loaded into sim; the
+// outputs are cut back to their lengths at that checkpoint. A newer checkpoint that fails any of
+// these (a crash between a write and its sync, a damaged byte) gives way to checkpoint.bin.prev.
+RunState resume_run(const fs::path& out, const Scene& scene, Simulation& sim, bool progress, bool any_code) {
+  const RunState resumed = with_newest_usable_checkpoint(out, [&](CheckpointReader& r) {
+    const CheckpointHeader h = read_header(r, any_code);
+    const std::vector<std::string> a = scene_lines(h.scene_toml), b = scene_lines(scene_to_toml(scene));
+    if (a != b) {
+      std::size_t k = 0;
+      while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;
+      throw CheckpointError(r.path() + ": written for another scene (checkpoint: '" + (k < a.size() ? a[k] : "(end)") +
+                            "', this scene: '" + (k < b.size() ? b[k] : "(end)") + "')");
+    }
+    if (h.threads != omp_get_max_threads() && progress)
+      std::fprintf(stderr, "rbcflow: note: the checkpoint was written with %lld threads, this run has %d: the results "
+                   "may differ from an uninterrupted run at round-off level\n", (long long)h.threads, omp_get_max_threads());
+    sim.load(r);  // (every value of the state is assigned: an older checkpoint loaded after this one overwrites it whole)
+    const RunState st = RunState::load(r);
+    if (!r.at_end()) throw CheckpointError(r.path() + ": unexpected data after the run state (written by another version?)");
+    for (const auto& [name, bytes] : st.output_lengths()) {
+      std::error_code ec;
+      const auto size = fs::file_size(out / name, ec);
+      if (bytes > 0 && (ec || std::int64_t(size) < bytes))
+        throw CheckpointError(r.path() + ": " + name + " is shorter (" + (ec ? std::string("missing") : std::to_string(size) + " bytes") +
+                              ") than when it was written (" + std::to_string(bytes) + " bytes)");
+    }
+    if (progress) std::fprintf(stderr, "rbcflow: resuming %s at t = %.6g s (step %ld) from %s\n", out.string().c_str(), sim.time(), long(sim.steps()), r.path().c_str());
+    return st;
+  });
+  for (const auto& [name, bytes] : resumed.output_lengths())
+    if (bytes > 0) fs::resize_file(out / name, std::uintmax_t(bytes));
   return resumed;
 }
 
@@ -345,6 +384,13 @@ void check_written(std::ostream& f, const fs::path& file) {
   if (!f)
     throw OutputError(file.string() + ": cannot write (disk full, or the folder removed?); the run stops with its last checkpoint kept: "
                       "make room, then resume");
+}
+
+// A stream's writes so far flushed and synced to the disk, or OutputError naming the file.
+void flush_to_disk(std::ofstream& f, const fs::path& file) {
+  check_written(f.flush(), file);
+  if (!sync_file(file.string()))
+    throw OutputError(file.string() + ": cannot sync to the disk (" + std::strerror(errno) + "); the run stops with its last checkpoint kept");
 }
 
 class RunOutputs {
@@ -382,10 +428,11 @@ class RunOutputs {
   double last_mean() const { return last_mean_; }
   double last_nodal() const { return last_nodal_; }
   RunState state(double wall_seconds) {
-    series_.flush();
-    check_written(series_, out_ / "series.csv");
-    if (snapshots_.is_open()) check_written(snapshots_.flush(), out_ / "snapshots.dat");
-    if (frames_.is_open()) check_written(frames_.flush(), out_ / "frames.dat");
+    // On the disk before the checkpoint that records their lengths (a crash of the machine, not
+    // only of the process, then leaves them at least that long).
+    flush_to_disk(series_, out_ / "series.csv");
+    if (snapshots_.is_open()) flush_to_disk(snapshots_, out_ / "snapshots.dat");
+    if (frames_.is_open()) flush_to_disk(frames_, out_ / "frames.dat");
     RunState st;
     st.series_bytes = std::int64_t(series_.tellp());
     st.snapshot_bytes = snapshots_.is_open() ? std::int64_t(snapshots_.tellp()) : 0;
@@ -622,7 +669,7 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
 // (health checks, samples, checkpoints), then write the end's files.
 RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   prepare_output_dir(opt.out_dir);
-  if (opt.threads > 0) omp_set_num_threads(opt.threads);
+  omp_set_num_threads(opt.threads > 0 ? opt.threads : default_threads());
   const fs::path out(opt.out_dir);
   const FolderLock lock(out);
   if (!opt.resume) clear_other_run(out, opt.refuse_other_run);
@@ -635,7 +682,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& opt) {
   if (!sim.cells().empty() && opt.progress) print_membrane_header(scene, sim.membrane());
   const long total = std::lround(std::ceil(scene.end / scene.dt - 1e-9));
   const long every = std::max(1L, std::lround(scene.sample_interval() / scene.dt));
-  const RunState resumed = opt.resume ? resume_run(out, scene, sim, opt.progress) : RunState{};
+  const RunState resumed = opt.resume ? resume_run(out, scene, sim, opt.progress, opt.any_code) : RunState{};
   RunOutputs outputs(out, scene, sim, resumed, !opt.resume);
 
   ProgressMeter progress(opt.label, total, total * scene.dt, opt.progress);

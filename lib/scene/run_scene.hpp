@@ -24,7 +24,7 @@ namespace rbc {
 
 struct RunOptions {
   std::string out_dir;    // created if missing
-  int threads = 0;        // 0: the OpenMP default
+  int threads = 0;        // 0: default_threads()
   bool progress = true;   // progress line on stderr
   std::string label = "rbcflow";  // names the run on the progress line
   // Checkpoints (out_dir/checkpoint.bin, the one before as checkpoint.bin.prev): every
@@ -33,9 +33,12 @@ struct RunOptions {
   // (RunInterrupted). Only states that passed the health checks are written.
   double checkpoint_wall = 600;  // s
   double checkpoint_sim = 0;     // s
-  // Continue from the newest valid checkpoint in out_dir instead of starting afresh; the
-  // checkpoint must be of this scene and this code (CheckpointError otherwise).
+  // Continue from the newest usable checkpoint in out_dir instead of starting afresh: whole, of
+  // this scene and this code, its outputs as long as it recorded (checkpoint.bin, else
+  // checkpoint.bin.prev with the reason printed; CheckpointError where neither is usable).
   bool resume = false;
+  // Resume a checkpoint written by other code (named on stderr) instead of refusing it.
+  bool any_code = false;
   // A fresh run into a folder that holds another run's files (its checkpoints, series, summary,
   // snapshots, frames, fields, VTK): they are cleared first, so that no file of the old run stays
   // beside the new one; with refuse_other_run (rbcflow run without --overwrite) the run is refused
@@ -46,13 +49,13 @@ struct RunOptions {
   std::function<void(long step)> after_step = nullptr;
 };
 
-// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
 // An output file could not be written (a full disk, a removed folder): the run stops at once,
 // its last checkpoint kept (resume once there is room).
 struct OutputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A run stopped by SIGINT or SIGTERM after writing its checkpoint.
 struct RunInterrupted : std::runtime_error {
   RunInterrupted(const std::string& what, int signal) : std::runtime_error(what), signal(signal) {}
   int signal;
@@ -78,13 +81,26 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options);
 // with its code by the caller (paper/keep_evidence.sh).
 std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene& scene, bool any_code = false);
 
-// The scene a checkpoint was written for (rbcflow resume DIR); throws CheckpointError.
-Scene checkpoint_scene(const std::string& dir);
+// Whether dir holds a checkpoint to resume from (checkpoint.bin or checkpoint.bin.prev).
+bool has_checkpoint(const std::string& dir);
+
+// The scene the newest usable checkpoint of dir was written for (rbcflow resume DIR); throws
+// CheckpointError. any_code: as RunOptions::any_code.
+Scene checkpoint_scene(const std::string& dir, bool any_code = false);
 
 // The state of the newest checkpoint in dir loaded into sim, which must be built from
 // checkpoint_scene(dir) (for measurements that start mid-run, e.g. bench_channel --crowd-from);
 // throws CheckpointError.
 void load_checkpoint(const std::string& dir, Simulation& sim);
+
+// The OpenMP threads of a program not told (--threads 0): a Slurm task's SLURM_CPUS_PER_TASK; one
+// under a job pool that runs a process per core (GNU parallel: PARALLEL_SEQ; a Slurm array:
+// SLURM_ARRAY_TASK_ID); OpenMP's own default (OMP_NUM_THREADS, else every core) otherwise.
+int default_threads();
+// The --threads help of every program, saying the above.
+inline constexpr const char* kThreadsHelp =
+    "OpenMP threads (default 0: SLURM_CPUS_PER_TASK in a Slurm job, 1 under GNU parallel or a Slurm array, else "
+    "OMP_NUM_THREADS or every core)";
 
 // Creates dir (and parents) and checks that a file can be written in it; throws SceneError.
 void prepare_output_dir(const std::string& dir);
