@@ -20,7 +20,7 @@ DEB_PACKAGES := cmake make g++ pkg-config git libeigen3-dev libgsl-dev libfftw3-
                 python3-vtk9
 FUZZ_PACKAGES := clang libomp-dev   # make fuzz only
 
-# The experiments that exist so far, in the study's order (SPEC section 5).
+# The experiments, in the order of the study's Section 3 (stability_map is ours, not the study's).
 EXPERIMENTS := channel_flow single_cell_migration four_cells_vs_disks cell_free_layer stability_map constriction
 
 .PHONY: all deps build build-runs test test-release test-sanitize reproduce evidence evidence-cases bench fuzz clean

@@ -1,7 +1,7 @@
 // Benchmark (not a test): time per step of the cell-free channel and its ratio to FFT pairs of
 // the same grid, measured in the same run (machines are noisy; ratios travel better); then the
 // full Lie step with 0, 1 and 100 cells on the wide grid (320 × 160) for both couplings.
-// Then the constriction (issue 15): the same steps with and without the fictitious domain.
+// Then the constriction: the same steps with and without the fictitious domain.
 //   build/bin/bench_channel [--threads N] [--cells-only | --target-only (both targets) | --constriction-only | --disks-only | --crowd-only]
 //                           [--crowd-steps N] [--crowd-from DIR] [--crowd-case NAME] [--coupling-start linear|constant]
 // The reference "FFT pair" is one forward plus one inverse FFTW real 2D transform of the
@@ -100,7 +100,7 @@ static void bench_cells() {
   // semi-implicit coupling's preconditioner go stale (from rest its GMRES needs ≈ 2 fewer
   // products per step over the first 100 steps). The cell-free row stays uniform in x1, so its
   // projection has nothing to do: a lower bound, not the cost of a 2D flow (the table above is).
-  // 100 cells also at 1.2e-6 s, 20 times their explicit step: issue 4's target asks for at most 3
+  // 100 cells also at 1.2e-6 s, 20 times their explicit step: the crowd target asks for at most 3
   // times the explicit cost per step at a step at least 20 times the explicit limit, and smaller
   // steps cost less per step (3.7-3.9 products per step against 5.0-5.1 at 2e-6 s; the rows are
   // timed one after the other, so bench_target times that pair again in alternating rounds). The last
@@ -172,23 +172,23 @@ static void alternating_ratio(rbc::Simulation& a, int n_a, rbc::Simulation& b, i
               ta / rounds * 1e3, tb / rounds * 1e3, tb / ta, lo, hi, target);
 }
 
-// Issue 4's target: 100 cells, the explicit step at 6e-8 s and the semi-implicit one at 1.2e-6 s
+// The crowd target: 100 cells, the explicit step at 6e-8 s and the semi-implicit one at 1.2e-6 s
 // (20 times), in rounds of 120 explicit and 30 semi-implicit steps (30 steps are one rebuild
 // interval of the preconditioner).
 static void bench_target(int rounds) {
-  std::printf("\nTarget (issue 4): 100 cells, semi-implicit at 1.2e-6 s against explicit at 6e-8 s, %d alternating rounds\n", rounds);
+  std::printf("\nCrowd target: 100 cells, semi-implicit at 1.2e-6 s against explicit at 6e-8 s, %d alternating rounds\n", rounds);
   rbc::Simulation ex(wide_scene(100, "explicit", 6e-8)), si(wide_scene(100, "semi-implicit", 1.2e-6));
   ex.start_from_cell_free_profile();
   si.start_from_cell_free_profile();
   alternating_ratio(ex, 120, si, 30, 30, rounds, 3);
 }
 
-// Issue 41's one-cell target: the semi-implicit step with one cell against the explicit one, as
+// The one-cell target: the semi-implicit step with one cell against the explicit one, as
 // the wide single-cell runs take them (one cell at (25, 10) um; the explicit step at 8e-8 s with
 // the Q = 1 its advective bound needs, the semi-implicit at the runs' 6e-6 s with their Q = 4), in
 // rounds of 100 explicit and 40 semi-implicit steps.
 static void bench_one_cell_target(int rounds) {
-  std::printf("\nTarget (issue 41): one cell, the semi-implicit step at 6e-6 s (Q = 4) against the explicit at 8e-8 s, %d alternating rounds\n",
+  std::printf("\nOne-cell target: one cell, the semi-implicit step at 6e-6 s (Q = 4) against the explicit at 8e-8 s, %d alternating rounds\n",
               rounds);
   rbc::Simulation ex(wide_scene(1, "explicit", 8e-8, 1)), si(wide_scene(1, "semi-implicit", 6e-6, 4));
   ex.start_from_cell_free_profile();
@@ -259,7 +259,7 @@ static void bench_constriction() {
               fast * 1e6, constrained.last().iterations, with * 1e6, with / fast, f.pair2d * 1e6);
 }
 
-// Issue 16's comparison: four rigid disks (radius 2.8 um) against four s* = 1 cells at the same
+// The disks' cost: four rigid disks (radius 2.8 um) against four s* = 1 cells at the same
 // places, (25, 10), (25, 40), (65, 10), (65, 40) um, on the wide grid (320 x 160, h = 0.3125 um),
 // semi-implicit at 2e-6 s (Q = 2), the study's pressure form, from the developed flow; per step
 // and as a ratio to an FFT pair of the grid. The disks' step rebuilds their collocation points
@@ -321,7 +321,7 @@ static void bench_footprint() {
               per_node / per_mesh_node);
 }
 
-// The crowd of the cell_free_layer experiment (issue 17): its 100 s* = 0.7 cells (Hct 34 %,
+// The crowd of the cell_free_layer experiment: its 100 s* = 0.7 cells (Hct 34 %,
 // arrangement seed 1, membrane repulsion on) at its own step, semi-implicit 3e-6 s, started from
 // the developed cell-free profile (the cells meet the full flow at once), 'steps' steps after 10
 // untimed ones. Prints the time per step, its ratio to an FFT pair of the grid, GMRES iterations

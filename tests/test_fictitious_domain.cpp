@@ -1,6 +1,6 @@
-// The fictitious-domain method for fixed obstacles (lib/fictitious_domain, SPEC section 4): step 4
-// as the DLM/FD saddle-point problem solved by the Uzawa CG. Each test can fail: the bounds are
-// measured values with a stated margin (numbers in the comments).
+// The fictitious-domain method for fixed obstacles (lib/fictitious_domain; the study's eqs.
+// (15)-(21)): step 4 as the DLM/FD saddle-point problem solved by the Uzawa CG. Each test can
+// fail: the bounds are measured values with a stated margin (numbers in the comments).
 #include <gtest/gtest.h>
 
 #include <algorithm>

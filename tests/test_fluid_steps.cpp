@@ -1,4 +1,5 @@
-// Properties of the study's fluid steps (SPEC sections 1, 4, 9): each test names the property.
+// Properties of the study's fluid steps (its Sec. 2.4; paper/method/01_fluid_steps.md): each test
+// names the property.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -18,7 +19,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// The study's narrow channel (SPEC 5.1) on a coarser mesh, so that the test is quick.
+// The study's narrow channel (its Sec. 3.1.1) on a coarser mesh, so that the test is quick.
 ChannelFlowParams narrow_channel(double h, double dt) {
   ChannelFlowParams p;
   p.length = 20e-6;
@@ -42,7 +43,7 @@ double max_profile_error(const ChannelFlow& flow, const std::function<double(dou
 }
 
 TEST(PoiseuilleFlow, BodyForceFromReynoldsGivesTheStudysMeanVelocity) {
-  // U0 = Re0 μ/(ρ H) = 6.667 cm/s in every experiment (SPEC section 1).
+  // U0 = Re0 μ/(ρ H) = 6.667 cm/s in every experiment (reference-data/README.md).
   const ChannelFlowParams p = narrow_channel(0.5e-6, 1e-7);
   const double u0 = p.body_force * p.height * p.height / (12 * p.fluid.viscosity);
   EXPECT_NEAR(u0, 0.066672, 1e-9);

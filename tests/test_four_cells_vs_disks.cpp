@@ -78,7 +78,7 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   }
   EXPECT_EQ(study, 6);
   EXPECT_EQ(validation, 6);
-  // Every study case has its Δt sequence (u_num's Δt part, issue 40): 6, 3 and 1.5 us.
+  // Every study case has its Δt sequence (u_num's Δt part): 6, 3 and 1.5 us.
   for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"})
     for (const char* suffix : {"", "_dt3us", "_dt1.5us"}) EXPECT_TRUE(names.count(std::string(base) + suffix)) << base << suffix;
   // A perturbed start moves every centre, by at most kPerturbation in each direction.

@@ -1,4 +1,4 @@
-// The immersed-boundary transfer and the explicit coupling (SPEC section 3): each test names the
+// The immersed-boundary transfer and the explicit coupling (the study's Eqs. (10)-(14)): each test names the
 // property it checks.
 #include <gtest/gtest.h>
 
@@ -261,7 +261,7 @@ TEST(ExplicitCoupling, AShortViolentBurstStopsTheRunAtOnce) {
 TEST(ExplicitCoupling, AStiffCellsStartUpPulseDoesNotStopTheRun) {
   // Measured: the narrow channel on h = 0.125 um, one s* = 1 cell under the CGS
   // reading, from rest at Δt = 1.2e-9 s, started as the polygon inscribed in the circle of radius
-  // R0 with the target π R0² (single_cell_migration's s* = 1 cell until issue 14: area 0.114 %
+  // R0 with the target π R0² (single_cell_migration's former s* = 1 cell: area 0.114 %
   // short of its target, springs 0.0285 % short of l0): the released membrane pushed the fluid to
   // 4.35 times the flow's peak speed within 8 ns, above 3 times from 2.4 to 17 ns (1.2 ρh²/μ), and
   // the pulse was over by 40 ns; the same pulse at 6e-10 and 3e-10 s. It is no oscillation, and

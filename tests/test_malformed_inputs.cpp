@@ -1,4 +1,4 @@
-// Bad input never crashes (issue 5): a corpus of malformed scene files and command lines, each
+// Bad input never crashes: a corpus of malformed scene files and command lines, each
 // fed to the rbcflow executable. Each must end with a non-zero exit code (2 for bad input; 105,
 // 106, 109 for command lines CLI11 refuses), one clear message naming what is wrong, and no crash, hang
 // or sanitizer report; every message is one line starting "rbcflow: error: ".

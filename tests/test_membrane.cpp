@@ -1,4 +1,5 @@
-// The spring membrane and its shape preparation (SPEC section 2): each test names the property.
+// The spring membrane and its shape preparation (the study's Eqs. (5)-(8), Remark 2.1): each test
+// names the property.
 #include <gtest/gtest.h>
 
 #include <cmath>

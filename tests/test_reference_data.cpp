@@ -39,11 +39,11 @@ TEST(ReferenceData, EveryTableLoadsAndEveryNumberHasAToleranceAndReason) {
       }
     }
   }
-  // SPEC section 5's bold numbers (21) plus the hematocrits and the cell-free channel rows.
+  // The study's 21 published results of its Sec. 3 plus the hematocrits and the cell-free channel rows.
   EXPECT_GE(numbers, 21);
 }
 
-// Issue 40: a tolerance comes from the study alone and must let the verdict tell its cases apart.
+// A tolerance comes from the study alone and must let the verdict tell its cases apart.
 TEST(ReferenceData, NoWindowHoldsTheStudyValueOfACaseTheStudyTellsItApartFrom) {
   int pairs = 0;
   for (const char* name : {"channel_flow", "single_cell_migration", "four_cells_vs_disks", "cell_free_layer", "constriction"}) {

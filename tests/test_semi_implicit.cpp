@@ -1,5 +1,6 @@
-// The semi-implicit coupling (issue 4): the membrane stiffness, the mobility of step 4, and the
-// coupling itself against the study's explicit scheme. Each test names the property it checks.
+// The semi-implicit coupling (paper/method/04_semi_implicit_coupling.md): the membrane stiffness,
+// the mobility of step 4, and the coupling itself against the study's explicit scheme. Each test
+// names the property it checks.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -349,7 +350,7 @@ TEST(SemiImplicitValidationExperiment, NarrowChannelSingleCellConvergesToTheExpl
 }
 
 TEST(SemiImplicitValidationExperiment, WideChannelFourCellsConvergeToTheExplicitScheme) {
-  // The study's four-cell set-up (SPEC 5.2: s* = 1 at (25, 10), (25, 40), (65, 10), (65, 40) µm,
+  // The study's four-cell set-up (its Sec. 3.1.2: s* = 1 at (25, 10), (25, 40), (65, 10), (65, 40) µm,
   // 100 × 50 µm, h = 0.3125 µm, Re0 = 2.778), 0.1 ms. Reference: explicit at 3e-8 s (9e-8 s,
   // stable with one s* = 0.55 cell, is not with these s* = 1 cells: measured). Semi-implicit at
   // 1e-6 and 2e-6 s (Q = 2). Claims, stated before the run: every centroid

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""ParaView files read back through VTK's own readers (issue 42; lib/scene/vtk_output.hpp).
+"""ParaView files read back through VTK's own readers (lib/scene/vtk_output.hpp).
 
 Three short runs with [output] vtk = true — one cell (also stopped and resumed: the same files),
 one rigid disk, two obstacles — then every

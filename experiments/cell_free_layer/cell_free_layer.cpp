@@ -512,7 +512,7 @@ std::string early_layer_table(const Results& res) {
 
 namespace {
 
-// The work-precision table (issue 17, item 5): RMS centroid error of the 50 cells at kConvTime
+// The work-precision table: RMS centroid error of the 50 cells at kConvTime
 // against the explicit run at h = 0.3125 um and the smallest Δt, and each run's wall time.
 std::string convergence_table(const Params& p, const Results& res) {
   const CaseResult* ref = nullptr;
@@ -698,7 +698,7 @@ void write_ensemble_files(const Params& p, const Results& res, const std::string
   }
 }
 
-// A layer (um) or Re row with its u_num (issue 40): the Δt part from the scene's 3 us and the
+// A layer (um) or Re row with its u_num: the Δt part from the scene's 3 us and the
 // halved run (two levels, first order, Fs 3), the arrangements' spread (the study's case and the
 // other seeds, at 3 us), the window noise of the reported run (the last 5 windows of 1 ms); the
 // h column from the 2h run.
@@ -743,7 +743,7 @@ Results run(const Params& p) {
   if (!p.only.empty()) return res;
 
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
-  // A row (and its figures) reports the finest Δt that finished (issue 40): the halved run or the scene's 3 us.
+  // A row (and its figures) reports the finest Δt that finished: the halved run or the scene's 3 us.
   auto reported_run = [&](const std::string& base) { return ok(base + "_dt1.5us") ? base + "_dt1.5us" : base; };
   for (int n : {50, 100}) {
     const std::string name = base_name(n), tag = std::to_string(n);

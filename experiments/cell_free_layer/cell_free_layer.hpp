@@ -1,6 +1,6 @@
 #pragma once
 // Experiment cell_free_layer — many cells and the plasma layer next to the walls (Shi, Pan &
-// Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.3, Figs. 9-10; SPEC section 5.3).
+// Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.3, Figs. 9-10).
 //
 // Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) 50 s* = 0.7 cells
 // (Hct 17.24 %, to 150 ms) and 100 cells (Hct 34.48 %, to 200 ms) leave a cell-free layer next to
@@ -15,14 +15,14 @@
 // The initial arrangement (the study shows it only in its figures; ours, stated and seeded):
 // the cells lie on a lattice of 10 columns and n/10 rows, row r at x2 = (r + 1/2) H / rows,
 // column c at x1 = (c + 1/2) L / 10, odd rows shifted by half a column; every cell's long axis
-// along x1 (SPEC section 5: "long axis along x1 unless stated"). Each centre is then moved by a
+// along x1 (our choice wherever the study does not state it). Each centre is then moved by a
 // uniform amount in [−δ1, δ1] x [−δ2, δ2] drawn from the case's seed (a Mersenne twister's raw
 // output, the same on every platform): δ1 = 1 um, and δ2 all the room the rows leave, half of
 // H/rows less a cell's thickness (3.4 um) and 0.8 um kept between rows: 0.4 um for the 100 cells
 // (rows 5 um apart), 2.9 um for the 50 (10 um apart), so that the 50 cells' starts differ as much as
 // their rows allow. Seed 1 is the study's case; seeds 2 to 6 the ensemble (six arrangements).
 //
-// Definitions (SPEC sections 5.3 and 6):
+// Definitions (the study's Sec. 3.1.3; reference-data/README.md):
 //   cell-free layer  at each sample the gap between a wall and the membrane node (of any cell)
 //                    closest to it (series.csv wall_gap_lower, wall_gap_upper), averaged over the
 //                    samples (every 0.1 ms) of the last millisecond; each wall and their mean
@@ -92,7 +92,7 @@ inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 3e-3;
 // and block rebuilds). The 50 cells run without it (the study's model); n50_repulsion measures its
 // effect on their rows.
 inline constexpr double kRepulsionStrength = 1e-3, kRepulsionRangeCells = 2.0;
-// Error against run time (issue 17, item 5): the study's 50 cells from rest to kConvTime (a whole
+// Error against run time: the study's 50 cells from rest to kConvTime (a whole
 // number of every Δt of the study), both couplings, h = 0.3125 and 0.625 um, Δt halved in turn;
 // the error of the 50 centroids against the explicit run at h = 0.3125 um and the smallest Δt.
 inline constexpr double kConvTime = 1.2e-3;

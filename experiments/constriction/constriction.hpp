@@ -1,6 +1,6 @@
 #pragma once
 // Experiment constriction — 12 cells through a 15 um passage (Shi, Pan & Glowinski 2012,
-// DOI 10.1002/fld.2455, Sec. 3.2, Figs. 11-13; SPEC section 5.4).
+// DOI 10.1002/fld.2455, Sec. 3.2, Figs. 11-13).
 //
 // Claim: in a 120 x 30 um channel with a 40 x 7.5 um block on each wall (centred at x1 = 60 um),
 // driven by the body force of the straight channel at Re0 = 1.667, twelve s* = 0.481 cells
@@ -11,9 +11,10 @@
 // Method: the blocks are held at rest by the fictitious-domain multiplier of step 4
 // (lib/fictitious_domain, paper/method/05_fictitious_domain.md); the cells by the semi-implicit
 // coupling. Scene: experiments/constriction/constriction.toml (the cells' arrangement is ours).
-// Definitions (SPEC section 6): a part's mean velocity is the flux through each mesh section
-// over its open height (30 or 15 um), averaged over the part's sections and over the samples
-// (every 0.1 ms) of the window kWindow; Re = ρ U H/μ with the part's height.
+// Definitions (the study's Sec. 3.2; reference-data/README.md): a part's mean velocity is the
+// flux through each mesh section over its open height (30 or 15 um), averaged over the part's
+// sections and over the samples (every 0.1 ms) of the window kWindow; Re = ρ U H/μ with the
+// part's height.
 //
 // Run:  build/bin/constriction --check          (100 ms, about 10 min on 2 cores)
 //       build/bin/constriction --quick --check  (2 ms on a 2x coarser mesh, seconds)

@@ -83,7 +83,7 @@ double dt_of_level(const std::string& name) {
 }
 
 // The level a row reports (the study's Δt is unstated; each case at the Δt its own convergence
-// reaches on this machine, issue 40): 1.5 us, the 1000 k_b cells 0.75 us. Finer levels are evidence.
+// reaches on this machine): 1.5 us, the 1000 k_b cells 0.75 us. Finer levels are evidence.
 std::string reported_level(const std::string& base) { return base + (base == "kb1000" ? "_dt0.75us" : "_dt1.5us"); }
 
 }  // namespace
@@ -154,7 +154,7 @@ std::vector<Case> cases(const Params& p) {
   };
   // Evidence first (the Δt-halved runs are the longest), then the study's cells, the ensemble,
   // the disks (cheaper per step than the cells), the h-doubled runs, the 1.2 ms convergence runs.
-  // The Δt sequence of every study case (u_num, issue 40): 6 us (the scene's), 3 us and 1.5 us;
+  // The Δt sequence of every study case (u_num's Δt part): 6 us (the scene's), 3 us and 1.5 us;
   // the 1000 k_b cells also at 0.75 us (their 6 us run is outside the asymptotic range). The
   // reported run is reported_level(base); one level finer (the k_b cells at 0.75 us, the 1000 k_b
   // ones at 0.375 us) is evidence only: it gives the reported run's GCI without make reproduce
@@ -239,7 +239,7 @@ std::vector<Case> cases(const Params& p) {
     for (double n : {64.0, 32.0}) v.push_back(pg(n, 1.25e-8));
   }
   if (p.convergence && !p.quick) {
-    // Error against run time (issue 16, item 5): the k_b cells with both couplings and the disks,
+    // Error against run time: the k_b cells with both couplings and the disks,
     // from rest to kConvTime, over h and Δt. Explicit below its stability limit (8e-8 s at
     // h = 0.3125 um for one cell, the stability map; 1e-7 s stops from rest in the constriction).
     struct Job { std::string kind; double h; std::vector<double> dts; };
@@ -535,7 +535,7 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
   return m;
 }
 
-// The evidence behind u_num (issue 40) for the report: the start ensembles, every case's Δt
+// The evidence behind u_num for the report: the start ensembles, every case's Δt
 // sequence with its observed order and GCI, and the study's differences between cases as
 // differences, each with its own u_num (the Δt part from the difference at each common Δt, so
 // that errors shared by the two runs cancel; the two windows' noise; the start spread of each,
@@ -701,7 +701,7 @@ std::string spread_table(const Params& p, const Results& res) {
   return md.str();
 }
 
-// The work-precision table (issue 16, item 5): RMS centroid error at kConvTime against the finest
+// The work-precision table: RMS centroid error at kConvTime against the finest
 // run of the same bodies (cells: the explicit one at h = 0.3125 um and the smallest Δt; disks: the
 // smallest Δt at h = 0.3125 um), its lateral part, and the wall time.
 std::string convergence_table(const Params& p, const Results& res) {
@@ -748,7 +748,7 @@ Results run(const Params& p) {
   std::erase_if(res.cases, [](const auto& kv) { return kv.second.failure == case_runner::kNotRun; });  // --collect
   if (!p.only.empty()) return res;  // a part: no comparison
 
-  // The study's rows, each from its case's finest Δt run, with u_num beside it (issue 40).
+  // The study's rows, each from its case's finest Δt run, with u_num beside it.
   const std::map<std::string, std::string> dist_ids = {{"kb1", "dist_kb1"}, {"kb10", "dist_kb10"}, {"kb100", "dist_kb100"},
                                                        {"kb1000", "dist_kb1000"}, {"disks", "dist_disks"}};
   const std::map<std::string, std::string> re_ids = {{"kb1", "re_kb1"}, {"kb10", "re_kb10"}, {"kb100", "re_kb100"},

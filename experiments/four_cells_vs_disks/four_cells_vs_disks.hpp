@@ -1,6 +1,6 @@
 #pragma once
 // Experiment four_cells_vs_disks — four cells of increasing bending stiffness against four rigid
-// disks (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.2, Figs. 6-8; SPEC section 5.2).
+// disks (Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, Sec. 3.1.2, Figs. 6-8).
 //
 // Claim: in the wide channel (100 x 50 um, h = 0.3125 um, Re0 = 2.778) four s* = 1 cells released
 // at (25, 10), (25, 40), (65, 10), (65, 40) um move toward the centreline and, after 200 ms, sit
@@ -16,7 +16,7 @@
 // paper/method/06_rigid_disks.md). Scene: four_cells_vs_disks.toml (channel, time, output) plus
 // each case's bodies, added here.
 //
-// Definitions (SPEC section 6, and ours where the study is silent):
+// Definitions (the study's Sec. 3.1.2, and ours where the study is silent; reference-data/README.md):
 //   distance  mean over the four bodies of |x2 − H/2| of the centroid, averaged over the samples
 //             (every 0.1 ms) of the last millisecond;
 //   Re        ρ U H / μ with U the mean velocity over the channel's section, same window;

@@ -91,7 +91,7 @@ double estimated_work(const Scene& s) {
 // The suffix of each swelling ratio's rows in reference-data/single_cell_migration.csv.
 const std::map<double, std::string> kRowIds = {{0.55, "s055"}, {0.7, "s07"}, {1.0, "s10"}};
 
-// The narrow runs without the area term during the flow (issue 40, item 8).
+// The narrow runs without the area term during the flow (one reading of the study for its Re).
 constexpr const char* kNoAreaTermPrefix = "re_flow_without_area_term_";
 
 std::string re_case_name(double h, double dt, double s) {
@@ -180,7 +180,7 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
   std::ofstream(fs::path(p.out_dir) / "convergence.md") << res.convergence_summary;
 }
 
-// u_num of a Re row (issue 40): the Δt part from the two Δt of the finest h of the Re evidence
+// u_num of a Re row: the Δt part from the two Δt of the finest h of the Re evidence
 // runs (a proxy: the row's own h has one Δt; two levels, so Fs = 3), and the window's part (the
 // row averages the last sample interval: the spread of the last 5 such means).
 NumericalUncertainty re_uncertainty(const Params& p, const Results& res, double s) {
@@ -230,7 +230,7 @@ std::string re_converged_in_h(const Params& p, const Results& res, double s) {
   return b;
 }
 
-// What could explain the Reynolds numbers with the cell (issue 14): their h- and Δt-convergence,
+// What could explain the Reynolds numbers with the cell: their h- and Δt-convergence,
 // the averaging window and the definition of U. Markdown for the report, from the narrow runs.
 void re_evidence_table(const Params& p, Results& res) {
   const FluidProperties fluid = Scene{}.fluid;
@@ -274,8 +274,8 @@ void re_evidence_table(const Params& p, Results& res) {
     md << row;
   }
   md << "\nThe averaging window and the definition of U, at h = " << p.narrow_mesh * 1e6
-     << " um: U over the whole cross-section (ours, SPEC section 1) averaged over the last sample interval (the row), over the "
-        "last " << p.re_window * 1e3 << " ms and over the whole run from rest; and the plasma alone "
+     << " um: U over the whole cross-section (ours, reading the study's Section 2) averaged over the last sample interval "
+        "(the row), over the last " << p.re_window * 1e3 << " ms and over the whole run from rest; and the plasma alone "
         "(lib/diagnostics/flow_diagnostics.hpp), its flux per unit channel height and its mean velocity over the open height "
         "of each section, averaged over the samples of the last " << p.re_window * 1e3 << " ms:\n\n"
         "| s* | U over the section, last sample interval (the row) | last " << p.re_window * 1e3 << " ms | whole run | plasma flux / H | "
@@ -343,7 +343,7 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
         r.source = "single_cell_migration " + re_case_name(h, dt, s);
         jobs.push_back({re_case_name(h, dt, s), r});
       }
-    // The area term (7) only while preparing the shape, not during the flow (issue 40, item 8):
+    // The area term (7) only while preparing the shape, not during the flow:
     // one reading of the study we had not tried for its Re offsets.
     if (p.re_convergence) {
       Scene r = sc;

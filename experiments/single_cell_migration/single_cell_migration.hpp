@@ -7,7 +7,7 @@
 // parachute shapes, s* = 1 a slightly bullet-like one and is the slowest. Hct = 6.77, 8.62,
 // 12.32 % and Re with the cell 0.5176, 0.5023, 0.5028. In the wide channel (100 × 50 µm,
 // h = 0.3125 µm) the ordering reverses: the smaller s*, the faster toward the centreline.
-// Also: which reading of the study's 2D constants (SPEC section 2) gives this behaviour.
+// Also: which reading of the study's 2D constants (paper/method/02_membrane.md) gives this behaviour.
 //
 // Run:  build/bin/single_cell_migration --check          (about 1 h on 2 cores; see README.md)
 //       build/bin/single_cell_migration --quick --check  (h = 0.25 um, to 1 ms; under a minute)
@@ -46,7 +46,7 @@ struct Params {
   // limit at this h (8e-8 s), Q = 4 wave-like substeps for the advective bound (6.25e-6 s);
   // chosen so that the three runs fit in one working session (≈ 1 h on 2 cores). Its Δt error,
   // measured on the first 2 ms against the explicit scheme (Δt = 5e-8 s): the lateral
-  // displacement of the centroid is 9 % (2e-6 s) and 22 % (6e-6 s) short (issue 4 note).
+  // displacement of the centroid is 9 % (2e-6 s) and 22 % (6e-6 s) short.
   double wide_mesh = 0.3125e-6;    // m (32 per 10 um)
   std::string wide_coupling = "semi-implicit";
   double wide_dt = 6e-6;           // s
@@ -54,12 +54,12 @@ struct Params {
   double wide_end = 0.8;           // s, as in the study
   double wide_every = 5e-4;        // s between samples
   double wide_y0 = 10e-6;          // m
-  // Re with the cell against h and Δt (issue 14): the narrow runs again at h = 0.5 and 0.25 um,
+  // Re with the cell against h and Δt: the narrow runs again at h = 0.5 and 0.25 um,
   // and at 0.25 um with Δt halved, to 7.5 ms (explicit; each Δt ~60 % of that h's stable limit).
   bool re_convergence = true;
   std::vector<std::pair<double, double>> re_runs = {{0.5e-6, 8e-8}, {0.25e-6, 4e-8}, {0.25e-6, 2e-8}};  // (h m, Δt s)
   double re_window = 1e-3;  // s: Re also averaged over the last re_window of the run (the evidence table)
-  // Error against run time (issue 4): the narrow channel on a short horizon, s* = 0.55, both
+  // Error against run time: the narrow channel on a short horizon, s* = 0.55, both
   // couplings over h and Δt; the error of the centroid height at conv_time against the finest
   // run (explicit, h = 0.125 µm, Δt = 6e-9 s). Each Δt list halves, for the observed orders.
   bool convergence = true;

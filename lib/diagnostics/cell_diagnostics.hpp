@@ -1,10 +1,10 @@
 #pragma once
-// What we measure on a cell (SPEC sections 2, 5).
+// What we measure on a cell (the quantities of the study's Section 3).
 //
 //   centroid     area-weighted centroid of the enclosed region (x1 unwrapped), m
 //   area drift   s / s_prepared − 1
 //   hematocrit   Σ cell areas / fluid area (L H minus obstacles), %
-//   wall gaps    the cell-free layer at an instant (SPEC section 5.3): the gap between each wall
+//   wall gaps    the cell-free layer at an instant (the study's Section 3.1.3): the gap between each wall
 //                and the membrane node of any cell closest to it, min_k,i r_ki·e2 (lower wall
 //                x2 = 0) and H − max_k,i r_ki·e2 (upper wall x2 = H), m
 //

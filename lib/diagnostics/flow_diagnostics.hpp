@@ -1,9 +1,9 @@
 #pragma once
-// Flow quantities the study reports (SPEC section 1).
+// Flow quantities the study reports (Re = ρUH/μ: the study's Section 2).
 //   mean velocity  U = (1/(L H)) ∫_Ω u1 dx   (lumped quadrature: trapezoid rule), m/s
 //   Reynolds       Re = ρ U H / μ
 //
-// The study does not say whether U counts the fluid inside the cells (issue 14). For that
+// The study does not say whether U counts the fluid inside the cells. For that
 // question we also measure the plasma alone, section by section (x1 = x_i, each mesh column):
 //   Q_p(x_i) = ∫ u1 dy over the parts of (0, H) outside every membrane   (u1 linear between the
 //              column's nodes, integrated exactly over the parts),

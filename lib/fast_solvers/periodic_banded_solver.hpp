@@ -1,6 +1,6 @@
 #pragma once
 // Fast direct solver for A x = b when A is invariant under translation in x1 (periodic, nx nodes)
-// and couples rows j, j' only for |j - j'| <= b (SPEC section 4: "FFT in x1, banded in x2").
+// and couples rows j, j' only for |j - j'| <= b (the fast solvers of the study's Section 2.4).
 //
 // Because A commutes with the shift in x1, the discrete Fourier transform in x1 block-
 // diagonalises it:  (A x)^_k = Â_k x̂_k,  Â_k[j][j'] = Σ_d a_{j,j'}(d) e^{-2πi k d / nx},

@@ -1,5 +1,5 @@
 #pragma once
-// Finite-element matrices of the study's discretisation (SPEC section 4) on the uniform
+// Finite-element matrices of the study's discretisation (its Section 2.4) on the uniform
 // triangulation of ChannelMesh. With every square cut by the same diagonal, they are stencils.
 //
 //   lumped mass      M_nn = ∫ φ_n = h² (interior node), h²/2 (wall node)

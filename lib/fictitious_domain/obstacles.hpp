@@ -1,5 +1,5 @@
 #pragma once
-// Fixed obstacles of the fictitious-domain method (SPEC section 4; the study's eqs. (15)-(21)):
+// Fixed obstacles of the fictitious-domain method (the study's eqs. (15)-(21)):
 // axis-aligned rectangles ω = [a, b] × [c, d] inside the channel, through which the fluid mesh
 // runs on (the fictitious domain) and on which step 4 enforces u = 0 by a multiplier.
 //

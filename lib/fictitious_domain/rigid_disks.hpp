@@ -1,5 +1,5 @@
 #pragma once
-// Freely moving, neutrally buoyant rigid disks by the fictitious domain (SPEC section 4; Glowinski,
+// Freely moving, neutrally buoyant rigid disks by the fictitious domain (Glowinski,
 // Pan, Hesla & Joseph, Int. J. Multiphase Flow 25 (1999) 755, the DLM/FD method the study builds
 // on). The fluid fills each disk ω_k; step 4 holds it in rigid motion,
 //

@@ -1,6 +1,6 @@
 #pragma once
 // The plasma in the periodic channel: state (u, p, t) and the three fluid steps of the study's
-// Lie scheme (SPEC section 4). The membrane step (2) belongs to the cells and is called between
+// Lie scheme (its Section 2.4). The membrane step (2) belongs to the cells and is called between
 // project() and advect() by whoever owns cells; a cell-free channel just leaves it out.
 #include <string>
 
@@ -13,7 +13,7 @@
 namespace rbc {
 
 struct FluidProperties {
-  double density = 1000.0;    // ρ, kg/m³ (plasma, SPEC section 1)
+  double density = 1000.0;    // ρ, kg/m³ (plasma: reference-data/README.md)
   double viscosity = 1.2e-3;  // μ, Pa·s
 };
 

@@ -1,5 +1,5 @@
 #pragma once
-// Step 4 of the Lie scheme (SPEC section 4) without an obstacle: implicit diffusion with forcing,
+// Step 4 of the Lie scheme (the study's Section 2.4) without an obstacle: implicit diffusion with forcing,
 //
 //   ρ ∫ (u^{n+1} − u^{n+2/3})/Δt · v + μ ∫ ∇u^{n+1} : ∇v = ∫ f · v     for all v ∈ W_0h,
 //

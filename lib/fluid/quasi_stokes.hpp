@@ -1,5 +1,5 @@
 #pragma once
-// Step 1 of the Lie scheme (SPEC section 4): the quasi-Stokes projection, ν = 0.
+// Step 1 of the Lie scheme (the study's Section 2.4): the quasi-Stokes projection, ν = 0.
 //
 //   find u ∈ W_0h, p ∈ L²_{h,0}:   ρ ∫ (u − uⁿ)/Δt · v − ∫ p ∇·v = 0,   ∫ q ∇·u = 0.
 //

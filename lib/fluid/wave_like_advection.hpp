@@ -1,5 +1,5 @@
 #pragma once
-// Step 3 of the Lie scheme (SPEC section 4): advection by the wave-like equation method of
+// Step 3 of the Lie scheme (the study's Section 2.4): advection by the wave-like equation method of
 // Dean & Glowinski. With V = u^{n+1/3} frozen and divergence-free, ∂u/∂t + (V·∇)u = 0 implies
 //
 //   ∂²u/∂t² − ∇·((V·∇u) V) = 0,   u(tⁿ) = u^{n+1/3},   ∂u/∂t(tⁿ) = −(V·∇) u^{n+1/3},

@@ -1,5 +1,5 @@
 #pragma once
-// Immersed-boundary transfer between membrane nodes and the velocity mesh (SPEC section 3):
+// Immersed-boundary transfer between membrane nodes and the velocity mesh (the study's Eqs. (10)-(14)):
 //
 //   spread       f_B(x) = Σ_i F_i D_h(x − r_i)               (10)   F_i in N/m → f_B in N/m³
 //   interpolate  U(r_i) = Σ_x h² u(x) D_h(x − r_i)           (13)

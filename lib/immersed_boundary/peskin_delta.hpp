@@ -1,5 +1,5 @@
 #pragma once
-// Peskin's 4-point discrete delta (SPEC section 3; the study's Eqs. (11)-(12)):
+// Peskin's 4-point discrete delta (the study's Eqs. (11)-(12)):
 //
 //   φ(r) = (3 − 2|r| + √(1 + 4|r| − 4r²)) / 8,      |r| ≤ 1
 //   φ(r) = (5 − 2|r| − √(−7 + 12|r| − 4r²)) / 8,    1 ≤ |r| ≤ 2

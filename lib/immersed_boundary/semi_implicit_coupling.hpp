@@ -1,5 +1,5 @@
 #pragma once
-// The semi-implicit coupling ("semi-implicit" in scenes; issue 4): the study's scheme with the
+// The semi-implicit coupling ("semi-implicit" in scenes; not in the study): the study's scheme with the
 // spring force of step 4 taken linearly implicit, in the spirit of Newren, Fogelson, Guy & Kirby,
 // JCP 222 (2007). Same energies, same forces, same steps 1-3.
 //

@@ -1,5 +1,5 @@
 #pragma once
-// Two membranes crossing each other (issue 17): the study's model has no force that keeps two
+// Two membranes crossing each other: the study's model has no force that keeps two
 // cells apart except the fluid between them, and the immersed boundary lets a thin film of fluid
 // (below a mesh cell) leak, so crowded cells can interpenetrate. A crossing is a geometric fact
 // we test for directly: segment [r_i, r_{i+1}] of cell a and segment [s_j, s_{j+1}] of cell b

@@ -1,6 +1,6 @@
 #pragma once
-// A short-range repulsion that keeps membranes off the walls and off each other (issue 17, item
-// 2), of the kind immersed-boundary codes for many red cells add (e.g. the cell–wall and
+// A short-range repulsion that keeps membranes off the walls and off each other (not in the
+// study), of the kind immersed-boundary codes for many red cells add (e.g. the cell–wall and
 // cell–cell forces of Fedosov et al. and of HemoCell), and in the form of the disks' contact
 // force (Glowinski, Pan, Hesla & Joseph 1999): with ρ its range and s its strength,
 //

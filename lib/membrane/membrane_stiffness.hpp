@@ -1,5 +1,5 @@
 #pragma once
-// The stiffness of the spring membrane, for the linearly implicit coupling (issue 4):
+// The stiffness of the spring membrane, for the linearly implicit coupling (semi_implicit_coupling.hpp):
 //
 //   F(r + δr) ≈ F(r) − K δr,     K ≈ ∂²(E_l + E_b + E_s)/∂r²                      (5)-(8)
 //

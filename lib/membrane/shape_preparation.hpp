@@ -1,5 +1,5 @@
 #pragma once
-// Shape preparation (the study's Remark 2.1; SPEC section 2).
+// Shape preparation (the study's Remark 2.1).
 //
 // Start from N nodes on the circle of radius R0 and let the chain relax, with the target area
 // s_e = s* π R0² (s* the swelling ratio), to a minimum of E_l + E_b + E_s. The study integrates

@@ -1,5 +1,5 @@
 #pragma once
-// The elastic spring membrane of a red blood cell (SPEC section 2; the study's Eqs. (5)-(8)).
+// The elastic spring membrane of a red blood cell (the study's Eqs. (5)-(8)).
 //
 // A cell is a closed chain of N nodes r_1..r_N; spring i joins node i to node i+1 (cyclic),
 // l_i is its length, l0 = 2πR0/N the rest length (arc length of the initial circle), θ_i the
@@ -22,7 +22,7 @@ namespace rbc {
 
 using Points = std::vector<Eigen::Vector2d>;
 
-// The study's constants "as given", and the two readings of them in a 2D code (SPEC section 2):
+// The study's constants "as given", and the two readings of them in a 2D code (paper/method/02_membrane.md):
 //   "si"  — the numbers as energies per unit depth in SI (J/m);
 //   "cgs" — the numbers converted to CGS (erg) and then used per unit depth in a CGS code
 //           (erg/cm), i.e. 100 times stiffer than "si" once expressed in J/m.

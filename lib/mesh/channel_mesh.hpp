@@ -1,5 +1,5 @@
 #pragma once
-// The uniform triangulation of the channel Ω = (0, L) × (0, H) (SPEC section 4).
+// The uniform triangulation of the channel Ω = (0, L) × (0, H) (the study's Section 2.4).
 //
 // T_h: the square grid of size h, nx = L/h cells along x1 (periodic) and ny = H/h across,
 // each square [i, i+1] × [j, j+1] cut by the diagonal from (i+1, j) to (i, j+1):

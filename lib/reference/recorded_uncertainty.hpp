@@ -1,5 +1,5 @@
 #pragma once
-// u_num recorded by the evidence runs, read back by the study's runs (issue 41).
+// u_num recorded by the evidence runs, read back by the study's runs.
 //
 // A row's u_num comes from runs beside the one it reports: the Δt sequence, the start ensemble,
 // the 2h run (reference/uncertainty.hpp). Those runs are many times the cost of the study's own,

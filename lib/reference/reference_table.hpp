@@ -1,7 +1,8 @@
 #pragma once
 // The study's published numbers and claims (reference-data/*.csv), the deviations from them we
 // know and explain (reference-data/deviations/*.csv), and the comparison table an experiment's
-// --check prints: quantity, study, ours, ours − study, tolerance, verdict (SPEC section 6).
+// --check prints: quantity, study, ours, ours − study, tolerance, verdict (the rules:
+// reference-data/README.md).
 //
 // Verdicts, so that CI can act on the table (E = ours − study, T the tolerance, u = our
 // numerical uncertainty u_num, reference/uncertainty.hpp):

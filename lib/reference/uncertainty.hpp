@@ -1,5 +1,5 @@
 #pragma once
-// Our numerical uncertainty u_num beside every compared number (issue 40; ASME V&V 20-2009,
+// Our numerical uncertainty u_num beside every compared number (ASME V&V 20-2009,
 // Sec. 5: the comparison error E = ours − study is judged together with the uncertainty of our
 // own number). Every part is at one coverage, 95 %.
 //

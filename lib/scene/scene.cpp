@@ -38,7 +38,7 @@ const std::vector<TableSpec>& schema() {
   };
   return s;
 }
-// Tables of SPEC section 8 that need parts of the method this version does not have yet.
+// Scene tables (paper/scene_keys.md) that need parts of the method this version does not have yet.
 const std::vector<std::string> kNotYet = {};
 const std::vector<std::string> kCellKeys = {"center", "swelling_ratio", "angle", "kb_scale"};
 const std::vector<std::string> kObstacleKeys = {"x", "y", "wall"};

@@ -1,5 +1,5 @@
 #pragma once
-// A scene: everything one run needs, read from a TOML file in SI units (SPEC section 8).
+// A scene: everything one run needs, read from a TOML file in SI units (every key: paper/scene_keys.md).
 //
 //   [fluid]   density (kg/m³), viscosity (Pa·s)                       — optional, plasma by default
 //   [channel] length, height, mesh_size (m); reynolds (cell-free Re0) or body_force (N/m³);
@@ -28,7 +28,7 @@
 //             wall's normal, for a gap below range (simulation.hpp)
 //   [repulsion] range (m, default h), strength (N/m, default 0 = off): a short-range repulsion of
 //             membrane nodes from the walls and from other cells' nodes, s (1 − d/ρ)² within ρ
-//             (lib/membrane/membrane_repulsion.hpp; not in the study: crowded cells, issue 17);
+//             (lib/membrane/membrane_repulsion.hpp; not in the study: keeps crowded cells from crossing);
 //             range at most 3h
 //   [[disk]]  center = [x, y] (m), radius (m): a neutrally buoyant rigid disk moving freely with
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/

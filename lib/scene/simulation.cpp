@@ -59,7 +59,7 @@ void Simulation::build_cells() {
 
 ExplicitMembraneStep& Simulation::membrane_move() { return explicit_step_ ? *explicit_step_ : semi_implicit_step_->membrane_move(); }
 
-// One step of the study's Lie scheme (SPEC section 4; the study's steps 1-4, its eqs. (19)-(21)
+// One step of the study's Lie scheme (the study's Section 2.4: its steps 1-4, its eqs. (19)-(21)
 // for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The disks, where a scene
 // has them, are held by step 4 and moved after it; the semi-implicit coupling adds its correction
 // to step 4.
