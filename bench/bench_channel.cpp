@@ -436,7 +436,7 @@ int main(int argc, char** argv) {
   CLI::App app{"bench_channel: time per step of the study's scenes against FFT pairs of their grids, ratios measured in one run (bench/README.md)"};
   rbc::set_command_line(argc, argv);
   app.set_version_flag("--version", rbc::version_line("bench_channel"), "print the code id and commit this program was built from");
-  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
+  app.add_option("--threads", threads, rbc::kThreadsHelp)->check(CLI::Range(0, 256));
   app.add_flag("--cells-only", cells_only, "the cell scenes only");
   app.add_flag("--target-only", target_only, "the target scene only");
   app.add_flag("--constriction-only", constriction_only, "the constriction only");
@@ -475,7 +475,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s\n", e.what());
     return 2;
   }
-  if (threads > 0) omp_set_num_threads(threads);
+  omp_set_num_threads(threads > 0 ? threads : rbc::default_threads());
   if (crowd_only) {
     bench_crowd(crowd_steps, crowd_from, crowd_case, crowd_start, blocks_list, solves_list);
     return 0;

@@ -111,14 +111,14 @@ done
 has_flag() { "$BUILD/bin/$1" --help 2>/dev/null | grep -q -- "$2"; }
 part_flag() { [ "$mode" = reproduce ] && has_flag "$1" --study-only && echo --study-only; }
 
-# The jobs: "experiment case" per line (case "-": the experiment is one run, e.g. constriction).
-# channel_flow (seconds) runs in its collect step.
+# The jobs: "experiment case" per line (each experiment's --list-cases; case "-": a program
+# without cases, run whole).
 jobs_file="$results/jobs_$mode.txt"
 : > "$jobs_file"
 for exp in "${run_list[@]}"; do
   if has_flag "$exp" --list-cases; then
     "$BUILD/bin/$exp" --list-cases $quick_flag $(part_flag "$exp") | sed "s/^/$exp /" >> "$jobs_file"
-  elif [ "$exp" != channel_flow ]; then
+  else
     echo "$exp -" >> "$jobs_file"
   fi
 done

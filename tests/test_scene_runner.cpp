@@ -1,5 +1,5 @@
 // The scene runner: bad input gets one clear line naming the key and what is allowed; a good
-// scene writes summary.json and series.csv as SPEC section 8 names them.
+// scene writes summary.json and series.csv as run_scene.hpp names them.
 #include <gtest/gtest.h>
 
 #include <fcntl.h>

@@ -1,11 +1,13 @@
 #include "channel_flow.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
@@ -30,9 +32,15 @@ double startup_mean(double u0, double nu, double H, double t0, double t1) {
 
 }  // namespace
 
+std::vector<std::string> cases() { return {"narrow", "wide"}; }
+
 Results run(const Params& p) {
   Results res;
-  for (const std::string which : {"narrow", "wide"}) {
+  const std::vector<std::string> all = cases();
+  if (!p.only.empty() && std::find(all.begin(), all.end(), p.only) == all.end())
+    throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/channel_flow --list-cases lists them)");
+  for (const std::string& which : all) {
+    if (!p.only.empty() && which != p.only) continue;
     // The scene file beside this source holds the channel's parameters, once.
     const std::string scene_path = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/channel_flow/" + which + ".toml";
     std::vector<std::string> overrides;
@@ -40,8 +48,10 @@ Results run(const Params& p) {
     const Scene scene = load_scene_file(scene_path, overrides);
     const std::string out = (std::filesystem::path(p.out_dir) / which).string();
     ChannelResult r;
-    const bool resume = p.resume && rbc::has_checkpoint(out);
-    r.summary = run_scene(scene, {.out_dir = out, .threads = p.threads, .progress = p.progress, .label = which, .resume = resume});
+    const case_runner::CaseRun run = case_runner::run_or_reuse(
+        scene, out, {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse, .label = which});
+    if (!run.failure.empty()) throw RunFailure(which + " channel: " + run.failure);
+    r.summary = run.summary;
 
     // Compare with the exact solutions: the parabola at the end, the mean during start-up.
     const double mu = scene.fluid.viscosity, nu = mu / scene.fluid.density, H = scene.height;

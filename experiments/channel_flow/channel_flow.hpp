@@ -3,15 +3,17 @@
 //
 // Claim: driven by f_p = 12 μ U0 / H² with U0 = Re0 μ / (ρ H), the study's narrow (20 × 10 µm,
 // h = 0.125 µm, Re0 = 0.5556) and wide (100 × 50 µm, h = 0.3125 µm, Re0 = 2.778) channels start
-// from rest and settle on plane Poiseuille flow with mean velocity U0 = 6.667 cm/s (SPEC section
-// 1; Shi, Pan & Glowinski 2012, DOI 10.1002/fld.2455, the Re0 of Sections 4.1-4.3). We check the
+// from rest and settle on plane Poiseuille flow with mean velocity U0 = 6.667 cm/s (Shi, Pan &
+// Glowinski 2012, DOI 10.1002/fld.2455, the Re0 of its Sections 3.1.1-3.1.3). We check the
 // mean velocity and Re against reference-data/channel_flow.csv and plot the start-up against the
 // Fourier-series solution and the final profile against the parabola.
 //
-// Run:  build/bin/channel_flow --check          (about 20 s on 2 cores)
-//       build/bin/channel_flow --quick --check  (larger Δt, about 10 s)
+// Run:  build/bin/channel_flow --check          (both channels, then the comparison)
+//       build/bin/channel_flow --quick --check  (larger Δt)
+//       build/bin/channel_flow --list-cases | parallel build/bin/channel_flow --only {}; build/bin/channel_flow --reuse --check
 #include <map>
 #include <string>
+#include <vector>
 
 #include "reference/reference_table.hpp"
 #include "reference/regression_record.hpp"
@@ -25,7 +27,13 @@ struct Params {
   int threads = 0;
   bool progress = true;
   bool resume = false;  // a channel whose folder holds a checkpoint (SIGINT/SIGTERM) continues from it
+  bool reuse = false;   // a channel finished in its folder (same scene, this code) is read back, not rerun
+  std::string only;     // run only this channel (a name of cases())
 };
+
+// The cases, one per channel, each run in out_dir/<name> (--list-cases, --only NAME: GNU parallel
+// or a Slurm array run them apart; --reuse --check then collects them).
+std::vector<std::string> cases();
 
 struct ChannelResult {
   RunSummary summary;

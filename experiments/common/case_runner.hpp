@@ -1,5 +1,5 @@
 #pragma once
-// What the experiments made of independent cases share (issue 17, item 4): every case is one
+// What the experiments made of independent cases share: every case is one
 // scene run in its own folder, so that GNU parallel or a Slurm array can run the cases anywhere
 // (--list-cases, --only NAME) and the experiment collects them afterwards (--check --reuse).
 //

@@ -27,7 +27,7 @@ bool recovered_region(double x, const Obstacle& block, double L) {
   return a >= 10e-6 && a <= L - (block.x[1] - block.x[0]) - 5e-6;
 }
 
-// Error against run time (issue 15, item 4): the experiment's scene (blocks, 12 cells) from rest
+// Error against run time: the experiment's scene (blocks, 12 cells) from rest
 // to kConvTime over h and Δt, with both couplings. Semi-implicit: h = 1.25, 0.625, 0.3125 um and
 // Δt = 6, 3, 1.5, 0.75 us (the experiment runs at 0.3125 um, 3 us). Explicit: below its
 // stability limit (measured from rest: at h = 0.625 um 2e-7 s stops at step 19 with
@@ -35,16 +35,28 @@ bool recovered_region(double x, const Obstacle& block, double L) {
 // Δt halving from the largest stable step. Reference: the finest explicit run (h = 0.3125 um, the smallest Δt);
 // error = RMS over the cells of the distance between centroids at kConvTime (x1 periodic), and
 // the relative difference of U_wide. The advection's Q from the straight channel's bound.
+struct ConvergenceJob { std::string coupling; double h; std::vector<double> dts; };
+const std::vector<ConvergenceJob>& convergence_jobs() {
+  static const std::vector<ConvergenceJob> jobs = {{"semi-implicit", 1.25e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
+                                                   {"semi-implicit", 0.625e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
+                                                   {"semi-implicit", 0.3125e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
+                                                   {"explicit", 0.625e-6, {1e-7, 5e-8, 2.5e-8}},
+                                                   {"explicit", 0.3125e-6, {5e-8, 2.5e-8}}};
+  return jobs;
+}
+std::string convergence_name(const std::string& coupling, double h, double dt) {
+  char name[96];
+  std::snprintf(name, sizeof name, "%s_h%g_dt%g", coupling.c_str(), h * 1e6, dt);
+  return name;
+}
+
+// With p.only naming one of its runs, that run alone (no comparison).
 void convergence_study(const Params& p, Results& res) {
-  struct Job { std::string coupling; double h; std::vector<double> dts; };
-  const std::vector<Job> jobs = {{"semi-implicit", 1.25e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
-                                 {"semi-implicit", 0.625e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
-                                 {"semi-implicit", 0.3125e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
-                                 {"explicit", 0.625e-6, {1e-7, 5e-8, 2.5e-8}},
-                                 {"explicit", 0.3125e-6, {5e-8, 2.5e-8}}};
   const std::string toml = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/constriction/constriction.toml";
-  for (const Job& j : jobs)
+  for (const ConvergenceJob& j : convergence_jobs())
     for (double dt : j.dts) {
+      const std::string name = convergence_name(j.coupling, j.h, dt);
+      if (!p.only.empty() && p.only != name) continue;
       char num[160];
       std::snprintf(num, sizeof num, "channel.mesh_size=%.17g", j.h);
       std::vector<std::string> o = {num, "time.coupling=\"" + j.coupling + "\"", "output.snapshots=[0.0]", "output.fields=false"};
@@ -57,8 +69,7 @@ void convergence_study(const Params& p, Results& res) {
       // Q from the straight channel's bound at this h (the scene refuses a Δt above Q times it).
       o.push_back("time.advection_substeps=" + std::to_string(load_scene_file(toml, {o[0]}).advection_substeps_for(dt)));
       Scene sc = load_scene_file(toml, o);
-      char name[96], src[160];
-      std::snprintf(name, sizeof name, "%s_h%g_dt%g", j.coupling.c_str(), j.h * 1e6, dt);
+      char src[160];
       std::snprintf(src, sizeof src, "constriction convergence %s h=%g um dt=%g s", j.coupling.c_str(), j.h * 1e6, dt);
       sc.source = src;
       const fs::path out = fs::path(p.out_dir) / "conv" / name;
@@ -84,6 +95,7 @@ void convergence_study(const Params& p, Results& res) {
       }
       res.convergence.push_back(r);
     }
+  if (!p.only.empty()) return;
   const ConvergenceRun* ref = nullptr;
   for (const auto& r : res.convergence)
     if (r.coupling == "explicit" && r.failure.empty() && (!ref || r.h < ref->h || (r.h == ref->h && r.dt < ref->dt))) ref = &r;
@@ -166,8 +178,25 @@ void convergence_study(const Params& p, Results& res) {
 
 }  // namespace
 
+std::vector<std::string> cases(const Params& p) {
+  std::vector<std::string> names{kMainRun};
+  if (!p.quick && p.convergence)
+    for (const ConvergenceJob& j : convergence_jobs())
+      for (double dt : j.dts) names.push_back(convergence_name(j.coupling, j.h, dt));
+  return names;
+}
+
 Results run(const Params& p) {
   Results res;
+  if (!p.only.empty()) {  // one case alone, no comparison
+    const std::vector<std::string> all = cases(p);
+    if (std::find(all.begin(), all.end(), p.only) == all.end())
+      throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/constriction --list-cases lists them)");
+    if (p.only != kMainRun) {
+      convergence_study(p, res);
+      return res;
+    }
+  }
   std::vector<std::string> overrides;
   if (p.quick) overrides = {"channel.mesh_size=0.625e-6", "time.end=" + std::to_string(kQuickEnd), "output.every=5e-5",
                             "output.snapshots=[0.0, 1e-3, 2e-3]"};
@@ -182,6 +211,7 @@ Results run(const Params& p) {
     res.summary = run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress, .label = "constriction",
                                     .checkpoint_wall = 300, .resume = resume});
   }
+  if (!p.only.empty()) return res;
 
   // The rows, from series.csv (samples every output.every).
   const std::string series = (out / "series.csv").string();
@@ -302,7 +332,7 @@ Results run(const Params& p) {
   }
   if (!p.quick && p.convergence) convergence_study(p, res);
   if (!p.quick) {
-    // u_num of the flow rows (issue 40): the window's part (the spread of the means of its five
+    // u_num of the flow rows: the window's part (the spread of the means of its five
     // fifths) and the Δt part, relative, from the convergence runs at the row's h and coupling
     // (U_wide at 1 ms with Δt = 3, 1.5, 0.75 us: a proxy on a short horizon, first order).
     const double span = (res.window_end - res.window_start) / 5;

@@ -45,7 +45,13 @@ struct Params {
   // Error against run time (full runs only): short runs of the same scene over h and Δt with
   // both couplings, in out_dir/conv/<case>; compared at kConvTime with the finest explicit run.
   bool convergence = true;
+  std::string only;  // run only this case (a name of cases()), no comparison
 };
+
+// The cases: the experiment's run (kMainRun, in out_dir/run) and, with the convergence study, its
+// short runs (in out_dir/conv/<case>): --list-cases, --only NAME for GNU parallel or a Slurm array.
+inline constexpr const char* kMainRun = "run";
+std::vector<std::string> cases(const Params& p);
 
 // The short horizon of the convergence study, s (the flow starts from rest; ρH²/μ = 0.75 ms).
 inline constexpr double kConvTime = 1e-3;

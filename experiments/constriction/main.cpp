@@ -18,14 +18,17 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (default results/constriction, with --quick results/constriction_quick)");
   app.add_flag("--quick", p.quick, "short CI parameters (2 ms, h = 0.625 um)");
   app.add_flag("--check", check, "compare with reference-data/constriction.csv; exit 1 on a failed row");
-  app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+  app.add_option("--threads", p.threads, rbc::kThreadsHelp)->check(CLI::Range(0, 256));
   app.add_flag("--resume", p.resume, "continue a run stopped by SIGINT/SIGTERM from its checkpoint");
   bool no_convergence = false;
   app.add_flag("--no-convergence", no_convergence, "skip the convergence study (short runs over h and dt, both couplings)");
   bool study_only = false;
   app.add_flag("--study-only", study_only,
                "the study's run only, as --no-convergence: u_num's Δt part as recorded in reference-data/uncertainty/ (make reproduce)");
-  app.add_flag("--reuse", p.reuse, "read the finished run in the output folder instead of running it again");
+  app.add_flag("--reuse", p.reuse, "read the finished runs in the output folder instead of running them again");
+  bool list = false;
+  app.add_flag("--list-cases", list, "print the cases' names (the experiment's run, then the convergence study's), one per line (for GNU parallel)");
+  app.add_option("--only", p.only, "run this case only (a name from --list-cases), no comparison");
   app.add_flag("--collect", p.collect, "read back the finished runs in the output folder and run none (convergence runs not finished: not run)");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
@@ -35,7 +38,13 @@ int main(int argc, char** argv) {
   if (p.quick) p.out_dir = "results/constriction_quick";
   if (!out.empty()) p.out_dir = out;
   try {
+    if (list) {
+      for (const std::string& c : rbc::constriction::cases(p)) std::printf("%s\n", c.c_str());
+      return 0;
+    }
+    if (check && !p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (add --reuse after running the cases)");
     const auto r = rbc::constriction::run(p);
+    if (!p.only.empty()) return 0;
     std::printf("constriction: %ld steps to %.4g s in %.1f s wall; U_wide = %.4f cm/s, U_narrow = %.4f cm/s (ratio %.4f), "
                 "Re %.4f / %.4f; Hct %.4f %%\n",
                 r.summary.steps, r.summary.t_end, r.summary.wall_seconds, r.u_wide * 100, r.u_narrow * 100, r.u_narrow / r.u_wide,

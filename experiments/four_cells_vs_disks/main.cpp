@@ -21,7 +21,7 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check, "compare with reference-data/four_cells_vs_disks.csv; exit 1 on a failed row");
   app.add_flag("--list-cases", list, "print the cases' names, one per line, the longest first (for GNU parallel)");
   app.add_option("--only", p.only, "run this case only (a name from --list-cases), no comparison");
-  app.add_option("--threads", p.threads, "OpenMP threads")->check(CLI::Range(1, 256));
+  app.add_option("--threads", p.threads, rbc::kThreadsHelp)->check(CLI::Range(0, 256));
   app.add_flag("--resume", p.resume, "continue cases stopped by SIGINT/SIGTERM from their checkpoints");
   app.add_flag("--reuse", p.reuse, "read the cases finished in the output folder instead of running them again");
   app.add_flag("--collect", p.collect, "read back the cases finished in the output folder and run none (a sweep still going: the table so far)");

@@ -1,4 +1,4 @@
-// rbcflow — the generic scene runner (SPEC section 8).
+// rbcflow — the generic scene runner (README.md, paper/scene_keys.md).
 //   build/bin/rbcflow run SCENE.toml --out DIR [--threads N] [--set key=value ...]
 //   build/bin/rbcflow resume DIR [--threads N] [--any-code]  (continue from DIR's newest usable checkpoint to the end)
 //   build/bin/rbcflow summary [--results DIR] [EXPERIMENT ...]

@@ -20,8 +20,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (default results/single_cell_migration)");
   app.add_flag("--quick", quick, "short CI parameters (h = 0.25 um, to 1 ms)");
   app.add_flag("--check", check, "compare with reference-data/single_cell_migration.csv; exit 1 on a failed row");
-  app.add_option("--threads", threads, "OpenMP threads of each case, the cases one after the other (default: every core)")
-      ->check(CLI::Range(1, 256));
+  app.add_option("--threads", threads, std::string(rbc::kThreadsHelp) + "; the cases one after the other")
+      ->check(CLI::Range(0, 256));
   std::string only;
   bool reuse = false;
   app.add_option("--only", only, "run only this case (a name from --list-cases), or the cases whose name starts with this (e.g. wide, narrow_si)");

@@ -1,5 +1,5 @@
-// stability_map: the largest stable Δt of both couplings against k_l, k_b and h, and the extreme
-// cases of SPEC section 7 (see stability_map.hpp).
+// stability_map: the largest stable Δt of both couplings against k_l, k_b and h, and extreme cases
+// (see stability_map.hpp).
 #include <algorithm>
 #include <cstdio>
 #include <iostream>
@@ -10,6 +10,7 @@
 
 #include "stability_map.hpp"
 #include "io/provenance.hpp"
+#include "scene/run_scene.hpp"
 
 int main(int argc, char** argv) {
   namespace sm = rbc::stability_map;
@@ -22,10 +23,14 @@ int main(int argc, char** argv) {
   app.add_option("--out", out, "output folder (default results/stability_map)");
   app.add_flag("--quick", quick, "a small map (h = 0.5, 0.25 um; three stiffnesses)");
   app.add_flag("--check", check, "exit 1 if an extreme case stopped (the study publishes no numbers for this map)");
-  app.add_flag("--reuse", p_reuse, "read a finished map from the output folder instead of recomputing it");
+  app.add_flag("--reuse", p_reuse, "read the cases finished in the output folder instead of computing them again");
   bool p_resume = false;
-  app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the points already written, compute the rest");
-  app.add_option("--threads", threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 256));
+  app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the cases already written, compute the rest");
+  bool list = false;
+  std::string only;
+  app.add_flag("--list-cases", list, "print the cases' names (the extreme cases, then one per point), one per line (for GNU parallel)");
+  app.add_option("--only", only, "compute this case only (a name from --list-cases), no table");
+  app.add_option("--threads", threads, rbc::kThreadsHelp)->check(CLI::Range(0, 256));
   bool record = false;
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/stability_map_quick.csv (keeps the bands)");
@@ -34,9 +39,19 @@ int main(int argc, char** argv) {
   if (!out.empty()) p.out_dir = out;
   p.reuse = p_reuse;
   p.resume = p_resume;
-  if (threads > 0) omp_set_num_threads(threads);
+  p.only = only;
+  if (list) {
+    for (const std::string& c : sm::cases(p)) std::printf("%s\n", c.c_str());
+    return 0;
+  }
+  if (check && !only.empty()) {
+    std::fprintf(stderr, "stability_map: error: --check judges the whole map: drop --only (add --reuse after computing the cases)\n");
+    return 2;
+  }
+  omp_set_num_threads(threads > 0 ? threads : rbc::default_threads());
   try {
     const sm::Results r = sm::run(p);
+    if (!only.empty()) return 0;
     int unstable_extremes = 0;
     for (const auto& e : r.extremes) unstable_extremes += !e.stable;
     std::printf("stability map: %zu points, %d of %zu extreme cases stopped; outputs in %s\n", r.points.size(), unstable_extremes,

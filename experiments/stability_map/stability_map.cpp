@@ -1,10 +1,15 @@
 #include "stability_map.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <unistd.h>
 
 #include "cell_free_layer/cell_free_layer.hpp"
 #include "four_cells_vs_disks/four_cells_vs_disks.hpp"
@@ -129,7 +134,8 @@ Extreme run_extreme(const std::string& name, const std::string& what, Scene s, c
 }
 
 std::vector<Extreme> extremes(const Params& p) {
-  // SPEC section 7's extreme cases, each run with the semi-implicit coupling at the flow's Δt
+  // The extreme cases (stiff membranes, a cell one mesh cell from a wall, the most deflated cell
+  // through the 15 µm passage, Hct 34 %, Re0 0.01 and 50), each run with the semi-implicit coupling at the flow's Δt
   // (the advective bound with Q = 2, capped at 1e-6 s) on h = 0.25 µm, for 0.5 ms (0.2 ms quick).
   std::vector<Extreme> out;
   const double h = 0.25e-6, end = p.quick ? 2e-4 : 5e-4;
@@ -170,7 +176,7 @@ std::vector<Extreme> extremes(const Params& p) {
     out.push_back(run_extreme("s* = 0.481", "the study's most deflated cell (no constriction yet)", s, p));
   }
   {
-    // The constriction experiment's cell through its passage (issue 15): a 40 x 30 um channel at
+    // The constriction experiment's cell through its passage: a 40 x 30 um channel at
     // the constriction's Re0 = 1.667 with blocks 7.5 um high on each wall (a 15 um passage, here
     // 10 um long so that the cell crosses it within the case's time), the s* = 0.481 cell on the
     // centreline 4 um upstream of the entry; the flow's Δt as for the others.
@@ -191,7 +197,7 @@ std::vector<Extreme> extremes(const Params& p) {
     out.push_back(run_extreme("k_l x100, k_b x1000", "the stiffest corner of the map", s, p));
   }
   {
-    // The four_cells_vs_disks experiment's stiffest case (issue 16) at its own scheme: four s* = 1
+    // The four_cells_vs_disks experiment's stiffest case at its own scheme: four s* = 1
     // cells with 1000 k_b each in the wide channel, h = 0.3125 um, semi-implicit, Δt = 6e-6 s, Q = 4
     // (the scene of four_cells_vs_disks.toml, so the map follows the experiment's choices).
     four_cells_vs_disks::Case c;
@@ -204,7 +210,7 @@ std::vector<Extreme> extremes(const Params& p) {
     out.push_back(run_extreme("4 cells 1000 k_b, wide", "four_cells_vs_disks' 1000 k_b case at its dt (6 us), 100 x 50 um, h = 0.3125 um", s, p));
   }
   {
-    // Hct 34 % at the cell_free_layer experiment's own scheme (issue 17, item 5): its 100 s* = 0.7
+    // Hct 34 % at the cell_free_layer experiment's own scheme: its 100 s* = 0.7
     // cells (seed 1) in the wide channel, h = 0.3125 um, semi-implicit, Δt = 3e-6 s, Q = 4, with
     // the membrane repulsion of its 100-cell cases (cell_free_layer.hpp); from rest.
     cell_free_layer::Case c;
@@ -237,15 +243,22 @@ std::vector<std::string> split_csv(const std::string& line) {
   return out;
 }
 
-// The points of stability_map.csv in dir (rows written so far); false if a row is unreadable.
-bool read_points(const std::string& dir, Results& res) {
-  std::ifstream a(dir + "/stability_map.csv");
-  std::string line;
-  std::getline(a, line);
-  while (std::getline(a, line)) {
-    const auto f = split_csv(line);
-    if (f.size() < 9) return false;
-    Point pt;
+constexpr const char* kPointHeader = "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials";
+constexpr const char* kExtremeHeader = "case,setup,coupling,dt_s,end_s,stable,outcome,wall_seconds";
+
+// A point as a row of stability_map.csv (12 digits: the limits read back must meet the quick
+// record's 1e-9 band), and back; false if the row is unreadable.
+std::string point_row(const Point& pt) {
+  std::ostringstream row;
+  row.precision(12);
+  row << pt.coupling << "," << pt.h * 1e6 << "," << pt.kl_scale << "," << pt.kb_scale << "," << pt.stable << "," << pt.unstable << ","
+      << pt.cap << "," << pt.cause << "," << pt.trials;
+  return row.str();
+}
+bool parse_point_row(const std::string& line, Point& pt) {
+  const auto f = split_csv(line);
+  if (f.size() < 9) return false;
+  try {
     pt.coupling = f[0];
     pt.h = std::stod(f[1]) * 1e-6;
     pt.kl_scale = std::stod(f[2]);
@@ -255,17 +268,36 @@ bool read_points(const std::string& dir, Results& res) {
     pt.cap = std::stod(f[6]);
     pt.cause = f[7];
     pt.trials = std::stoi(f[8]);
-    res.points.push_back(pt);
+  } catch (const std::exception&) {
+    return false;
   }
   return true;
 }
 
-// A finished map in out_dir (both CSV files), read back for the tables; false if absent.
-bool read_finished(const std::string& dir, Results& res) {
-  std::ifstream b(dir + "/extremes.csv");
-  if (!std::filesystem::exists(dir + "/stability_map.csv") || !b || !read_points(dir, res)) return false;
+// A file written whole or not at all: to NAME.tmp.<pid>, then renamed (a stopped map never leaves
+// half a point behind).
+void write_whole(const std::filesystem::path& file, const std::string& text) {
+  const std::filesystem::path tmp = file.string() + ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream f(tmp);
+    f << text;
+    if (!f.flush()) throw std::runtime_error(tmp.string() + ": cannot write (disk full?)");
+  }
+  std::filesystem::rename(tmp, file);
+}
+
+// A point's own file (points/<case>.csv: the header and its row), or false if absent/unreadable.
+bool read_point_file(const std::filesystem::path& file, Point& pt) {
+  std::ifstream f(file);
+  std::string header, line;
+  return std::getline(f, header) && header == kPointHeader && std::getline(f, line) && parse_point_row(line, pt);
+}
+
+bool read_extremes(const std::filesystem::path& file, std::vector<Extreme>& out) {
+  std::ifstream b(file);
   std::string line;
-  std::getline(b, line);
+  if (!std::getline(b, line) || line != kExtremeHeader) return false;
+  std::vector<Extreme> read;
   while (std::getline(b, line)) {
     const auto f = split_csv(line);
     if (f.size() < 8) return false;
@@ -273,65 +305,100 @@ bool read_finished(const std::string& dir, Results& res) {
     e.name = f[0];
     e.what = f[1];
     e.coupling = f[2];
-    e.dt = std::stod(f[3]);
-    e.end = std::stod(f[4]);
+    try {
+      e.dt = std::stod(f[3]);
+      e.end = std::stod(f[4]);
+      e.wall_seconds = std::stod(f[7]);
+    } catch (const std::exception&) {
+      return false;
+    }
     e.stable = f[5] == "1";
     e.outcome = f[6];
-    e.wall_seconds = std::stod(f[7]);
-    res.extremes.push_back(e);
+    read.push_back(e);
   }
-  return !res.points.empty();
+  out = read;
+  return !out.empty();
 }
 
+std::string extremes_csv(const std::vector<Extreme>& extremes) {
+  std::ostringstream ex;
+  ex << kExtremeHeader << "\n";
+  for (const Extreme& e : extremes)
+    ex << "\"" << e.name << "\",\"" << e.what << "\"," << e.coupling << "," << e.dt << "," << e.end << "," << e.stable << ",\""
+       << e.outcome << "\"," << e.wall_seconds << "\n";
+  return ex.str();
+}
+
+// The map's points in the order of its tables: per coupling and h, the k_l then the k_b scales.
+struct PointCase {
+  std::string name, coupling;
+  double h = 0, kl = 1, kb = 1;
+};
+std::vector<PointCase> point_cases(const Params& p) {
+  std::vector<PointCase> out;
+  auto add = [&](const std::string& c, double h, double kl, double kb) {
+    char name[96];
+    std::snprintf(name, sizeof name, "%s_h%gum_kl%g_kb%g", c.c_str(), h * 1e6, kl, kb);
+    out.push_back({name, c, h, kl, kb});
+  };
+  for (const std::string& c : p.couplings)
+    for (double h : p.mesh_sizes) {
+      for (double kl : p.kl_scales) add(c, h, kl, 1);
+      for (double kb : p.kb_scales) add(c, h, 1, kb);
+    }
+  return out;
+}
+
+constexpr const char* kExtremesCase = "extremes";
+
 }  // namespace
+
+std::vector<std::string> cases(const Params& p) {
+  std::vector<std::string> names{kExtremesCase};  // (the longest first)
+  for (const PointCase& c : point_cases(p)) names.push_back(c.name);
+  return names;
+}
 
 namespace {
 void fill_quick_record(Results& res);
 }  // namespace
 
+// Each point is a case of its own (points/<case>.csv) and the extreme cases one more
+// (extremes.csv), so that GNU parallel or a Slurm array can run them apart (--only) and a stopped
+// map loses at most the points in progress; --reuse and --resume read the cases already written.
 Results run(const Params& p) {
-  std::filesystem::create_directories(p.out_dir);
+  namespace fs = std::filesystem;
+  const fs::path out(p.out_dir), points = out / "points";
+  fs::create_directories(points);
+  const std::vector<std::string> all = cases(p);
+  if (!p.only.empty() && std::find(all.begin(), all.end(), p.only) == all.end())
+    throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/stability_map --list-cases lists them)");
+  const bool read_back = p.reuse || p.resume;
   Results res;
-  if (p.reuse && read_finished(p.out_dir, res)) {
-    write_tables(p, res);
-    if (p.quick) fill_quick_record(res);
-    return res;
-  }
-  // --resume: the points already in stability_map.csv (each row is flushed when its bisection
-  // ends, so a stopped map loses at most the point in progress) are kept and not recomputed.
-  Results done;
-  const bool resume = p.resume && std::filesystem::exists(p.out_dir + "/stability_map.csv") && read_points(p.out_dir, done);
-  std::ofstream csv(p.out_dir + "/stability_map.csv", resume ? std::ios::app : std::ios::trunc);
-  csv.precision(12);  // the limits read back by --reuse / --resume must meet the quick record's 1e-9 band
-  if (!resume) csv << "coupling,h_um,kl_scale,kb_scale,dt_stable_s,dt_unstable_s,dt_cap_s,cause,trials\n";
-
-  auto record = [&](const Point& pt) {
-    res.points.push_back(pt);
-    csv << pt.coupling << "," << pt.h * 1e6 << "," << pt.kl_scale << "," << pt.kb_scale << "," << pt.stable << ","
-        << pt.unstable << "," << pt.cap << "," << pt.cause << "," << pt.trials << "\n";
-    csv.flush();
-    if (p.progress)
-      std::printf("  %-14s h %.4g um  kl x%-6g kb x%-6g  stable %.3g s  unstable %s  (%d trials)\n", pt.coupling.c_str(), pt.h * 1e6,
-                  pt.kl_scale, pt.kb_scale, pt.stable, pt.unstable > 0 ? (std::to_string(pt.unstable) + " s, " + pt.cause).c_str() : ">= cap",
-                  pt.trials);
-  };
-  // One point: from the rows already written (--resume), else bisected and recorded.
-  auto point = [&](const std::string& c, double h, double kl, double kb) {
-    for (const Point& q : done.points)
-      if (q.coupling == c && std::abs(q.h - h) < 1e-6 * h && q.kl_scale == kl && q.kb_scale == kb) return res.points.push_back(q);
-    record(bisect(p, c, h, kl, kb));
-  };
-  for (const std::string& c : p.couplings)
-    for (double h : p.mesh_sizes) {
-      for (double kl : p.kl_scales) point(c, h, kl, 1);
-      for (double kb : p.kb_scales) point(c, h, 1, kb);
+  for (const PointCase& c : point_cases(p)) {
+    if (!p.only.empty() && c.name != p.only) continue;
+    const fs::path file = points / (c.name + ".csv");
+    Point pt;
+    if (!(read_back && read_point_file(file, pt))) {
+      pt = bisect(p, c.coupling, c.h, c.kl, c.kb);
+      write_whole(file, std::string(kPointHeader) + "\n" + point_row(pt) + "\n");
+      if (p.progress)
+        std::printf("  %-14s h %.4g um  kl x%-6g kb x%-6g  stable %.3g s  unstable %s  (%d trials)\n", pt.coupling.c_str(), pt.h * 1e6,
+                    pt.kl_scale, pt.kb_scale, pt.stable,
+                    pt.unstable > 0 ? (std::to_string(pt.unstable) + " s, " + pt.cause).c_str() : ">= cap", pt.trials);
     }
-  res.extremes = extremes(p);
-  std::ofstream ex(p.out_dir + "/extremes.csv");
-  ex << "case,setup,coupling,dt_s,end_s,stable,outcome,wall_seconds\n";
-  for (const Extreme& e : res.extremes)
-    ex << "\"" << e.name << "\",\"" << e.what << "\"," << e.coupling << "," << e.dt << "," << e.end << "," << e.stable << ",\""
-       << e.outcome << "\"," << e.wall_seconds << "\n";
+    res.points.push_back(pt);
+  }
+  if (p.only.empty() || p.only == kExtremesCase) {
+    if (!(read_back && read_extremes(out / "extremes.csv", res.extremes))) {
+      res.extremes = extremes(p);
+      write_whole(out / "extremes.csv", extremes_csv(res.extremes));
+    }
+  }
+  if (!p.only.empty()) return res;
+  std::string map = std::string(kPointHeader) + "\n";
+  for (const Point& pt : res.points) map += point_row(pt) + "\n";
+  write_whole(out / "stability_map.csv", map);  // the whole map, for plot.gp
   write_tables(p, res);
   if (p.quick) fill_quick_record(res);
   return res;
@@ -370,7 +437,7 @@ void write_tables(const Params& p, const Results& res) {
       md << row;
     }
   }
-  md << "\nExtreme cases (SPEC section 7), semi-implicit coupling, h = 0.25 um:\n\n| case | set-up | Δt (s) | outcome | wall (s) |\n|---|---|---|---|---|\n";
+  md << "\nExtreme cases (stiff membranes, crowds, Re0 far from the study's, h halved), semi-implicit coupling, h = 0.25 um:\n\n| case | set-up | Δt (s) | outcome | wall (s) |\n|---|---|---|---|---|\n";
   for (const Extreme& e : res.extremes) {
     char row[400];
     std::snprintf(row, sizeof row, "| %s | %s | %.3g | %s | %.1f |\n", e.name.c_str(), e.what.c_str(), e.dt, e.outcome.c_str(), e.wall_seconds);

@@ -1,9 +1,10 @@
 #pragma once
-// stability_map — the largest stable time step of the two couplings (issue 4; SPEC section 7).
+// stability_map — the largest stable time step of the two couplings (ours: the study has no such test).
 //
 // Question: how does the stable Δt depend on the membrane stiffness (k_l × 0.01 … 100,
 // k_b × 1 … 1000) and on the mesh size h, for the study's explicit coupling and for our
-// semi-implicit one; and do the extreme cases of SPEC section 7 run?
+// semi-implicit one; and do the extreme cases run (1000 k_b, 10–100 k_l, Hct 34 %, a cell one mesh
+// cell from a wall, s* = 0.481 through the 15 µm passage, Re0 from 0.01 to 50)?
 //
 // Set-up (our choice; the study has no such test): the narrow channel (20 × 10 µm, Re0 = 0.5556),
 // one s* = 0.55 cell released at (5, 3) µm, SI reading of the constants. A Δt counts as stable if
@@ -34,6 +35,7 @@ struct Params {
   int max_substeps = 4;       // Q at the cap
   bool reuse = false;         // read a finished map from out_dir instead of recomputing it
   bool resume = false;        // keep the points a stopped map already wrote, compute the rest
+  std::string only;           // compute only this case (a name of cases())
   static Params quick_params();  // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
 };
 
@@ -61,6 +63,9 @@ struct Results {
   std::map<std::string, Observed> quick_record;
 };
 
+// The cases: "extremes" (the extreme cases) and one per point, named
+// <coupling>_h<h>um_kl<scale>_kb<scale> (--list-cases; --only NAME computes one).
+std::vector<std::string> cases(const Params& p);
 Results run(const Params& p);
 void write_tables(const Params& p, const Results& r);  // out_dir/check.md for the report
 

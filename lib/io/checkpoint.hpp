@@ -1,5 +1,5 @@
 #pragma once
-// Checkpoint files (issue 5): everything the next step needs, in one binary file per run folder.
+// Checkpoint files: everything the next step needs, in one binary file per run folder.
 //
 //   layout   "RBCFLOW-CHECKPOINT" magic, format number (uint32), then the payload (records
 //            written by the parts of the run, in order), then the FNV-1a 64-bit checksum of

@@ -565,7 +565,7 @@ void write_profile(const fs::path& path, const ChannelFlow& flow) {
   }
 }
 
-// summary.json (SPEC section 8; the units are in its "units" entry).
+// summary.json (its keys: run_scene.hpp; the units are in its "units" entry).
 // The resolved scene of a run, from which `rbcflow run <folder>/scene.toml` repeats it.
 void write_scene_file(const fs::path& path, const Scene& scene) {
   std::ofstream f(path);

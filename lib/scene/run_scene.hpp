@@ -1,5 +1,5 @@
 #pragma once
-// Runs a scene to its end and writes the outputs of SPEC section 8 into the output folder:
+// Runs a scene to its end and writes its outputs into the output folder (SI units throughout):
 //   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, nodal_mean_velocity, hematocrit, cells, disks, …
 //   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
 //                 coupling_iterations, nodal_mean_velocity (U_n, averaged over the sample interval as

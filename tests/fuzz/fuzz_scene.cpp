@@ -1,4 +1,4 @@
-// libFuzzer target for the scene parser (issue 5): any byte string must either parse or end in a
+// libFuzzer target for the scene parser: any byte string must either parse or end in a
 // SceneError with a message — never a crash, a sanitizer report, another exception or a hang.
 //   make fuzz                       (clang; FUZZ_SECONDS=120 by default)
 // Inputs it finds that break this go to tests/fuzz/regressions/ and into the corpus test
