@@ -69,17 +69,22 @@ test-sanitize: deps
 	$(call seed_costs,$(BUILD_SAN))
 	cd $(BUILD_SAN) && OMP_NUM_THREADS=1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS) -E Experiment
 
-# libFuzzer on the scene parser for FUZZ_SECONDS (clang, ASan + UBSan, its own build folder).
-# Inputs that crash or hang are written to $(BUILD_FUZZ)/crash-* / timeout-*; each one found goes
-# into tests/fuzz/regressions/ (replayed by the unit tests).
+# libFuzzer on each kind of input (tests/fuzz/fuzz_inputs.hpp: scene files, --set values,
+# checkpoints) for FUZZ_SECONDS each (clang, ASan + UBSan, its own build folder). Inputs that crash
+# or hang are written to $(BUILD_FUZZ)/<kind>-crash-* / -timeout-*; each one found goes into
+# tests/fuzz/regressions/<kind>/ (replayed by the unit tests).
+FUZZ_KINDS := scene_text set_values checkpoint
 fuzz:
 	@missing=""; for p in $(FUZZ_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
 	if [ -n "$$missing" ]; then apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends $$missing; fi
 	cmake -S . -B $(BUILD_FUZZ) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DRBCFLOW_FUZZ=ON
-	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target fuzz_scene
-	mkdir -p $(BUILD_FUZZ)/corpus
-	$(BUILD_FUZZ)/bin/fuzz_scene -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
-	  -artifact_prefix=$(BUILD_FUZZ)/ $(BUILD_FUZZ)/corpus tests/fuzz/seeds paper/method/scenes experiments/channel_flow tests/fuzz/regressions
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) $(addprefix --target fuzz_,$(FUZZ_KINDS))
+	set -e; for kind in $(FUZZ_KINDS); do \
+	  mkdir -p $(BUILD_FUZZ)/corpus/$$kind tests/fuzz/regressions/$$kind; \
+	  case $$kind in scene_text) seeds="tests/fuzz/seeds paper/method/scenes experiments/channel_flow" ;; *) seeds=tests/fuzz/seeds_$$kind ;; esac; \
+	  $(BUILD_FUZZ)/bin/fuzz_$$kind -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
+	    -artifact_prefix=$(BUILD_FUZZ)/$$kind- $(BUILD_FUZZ)/corpus/$$kind $$seeds tests/fuzz/regressions/$$kind; \
+	done
 
 # Interruptible: Ctrl-C, then the same command continues (paper/make_report.sh).
 reproduce: build-runs

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "fuzz/fuzz_inputs.hpp"
 #include "io/checkpoint.hpp"
 #include "scene/scene.hpp"
 
@@ -165,7 +166,7 @@ std::vector<Case> corpus() {
       {"mobility table too large", replace(replace(kGood, "length = 20e-6", "length = 50e-6"), "height = 10e-6", "height = 1e-3") +
                                        "coupling = \"semi-implicit\"\n" + cell("center = [5e-6, 5e-6]\nswelling_ratio = 0.55\n"),
        run, 2, {"[time] coupling", "GiB"}},
-      // Found by hand while setting up make fuzz (also in tests/fuzz/regressions/): a cell count
+      // Found by hand while setting up make fuzz (also in tests/fuzz/regressions/scene_text/): a cell count
       // beyond int (was converted with undefined behaviour), a membrane whose preparation would
       // take hours, a mesh of 2e8 nodes, values nested beyond TOML's limit.
       {"cell count beyond int", replace(replace(replace(kGood, "length = 20e-6", "length = 1e300"), "height = 10e-6", "height = 1e300"),
@@ -226,23 +227,30 @@ TEST(MalformedInput, EveryCorpusEntryExitsNonZeroWithOneClearLine) {
   }
 }
 
-TEST(MalformedInput, FuzzRegressionsParseOrFailWithAMessage) {
-  // Inputs make fuzz once broke the parser with (tests/fuzz/regressions/): each must now parse
-  // or end in a SceneError that says something.
-  int n = 0;
-  for (const auto& e : fs::directory_iterator(std::string(RBCFLOW_SOURCE_DIR) + "/tests/fuzz/regressions")) {
-    if (e.path().filename().string().rfind('.', 0) == 0) continue;
-    std::ifstream f(e.path(), std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    try {
-      (void)parse_scene(ss.str(), e.path().filename().string());
-    } catch (const SceneError& err) {
-      EXPECT_FALSE(std::string(err.what()).empty()) << e.path();
+// The inputs make fuzz once broke the package with (tests/fuzz/regressions/<kind>/), and the
+// fuzzers' seeds: each must now be read or refused with a message (tests/fuzz/fuzz_inputs.hpp).
+TEST(MalformedInput, FuzzRegressionsAndSeedsAreReadOrRefusedWithAMessage) {
+  const std::string fuzz = std::string(RBCFLOW_SOURCE_DIR) + "/tests/fuzz/";
+  const std::vector<std::pair<std::string, void (*)(const std::uint8_t*, std::size_t)>> kinds = {
+      {"scene_text", fuzz::scene_text}, {"set_values", fuzz::set_values}, {"checkpoint", fuzz::checkpoint}};
+  for (const auto& [kind, feed] : kinds) {
+    int n = 0;
+    for (const std::string& folder : {fuzz + "regressions/" + kind, fuzz + "seeds_" + kind}) {
+      if (!fs::is_directory(folder)) continue;
+      for (const auto& e : fs::directory_iterator(folder)) {
+        if (e.path().filename().string().rfind('.', 0) == 0) continue;
+        std::ifstream f(e.path(), std::ios::binary);
+        std::stringstream ss;
+        ss << f.rdbuf();
+        const std::string bytes = ss.str();
+        SCOPED_TRACE(e.path().string());
+        EXPECT_NO_THROW(feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+        ++n;
+      }
     }
-    ++n;
+    std::printf("%s: %d fuzz inputs replayed\n", kind.c_str(), n);
+    EXPECT_GT(n, 0) << kind;
   }
-  std::printf("%d fuzz regression inputs replayed\n", n);
 }
 
 }  // namespace

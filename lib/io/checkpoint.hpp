@@ -41,6 +41,7 @@ class CheckpointWriter {
   void put(const std::vector<double>& v);
   void put(const Eigen::VectorXd& v);
   void put(const std::vector<Eigen::Vector2d>& points);  // membrane nodes (x, y pairs)
+  void put_raw(const void* p, std::size_t n) { raw(p, n); }  // bytes as they are (the fuzzer's payloads)
   // Writes the file as described above; throws CheckpointError if it cannot.
   void commit(const std::string& path) const;
 
