@@ -26,6 +26,9 @@ int main(int argc, char** argv) {
   app.add_flag("--reuse", p_reuse, "read the cases finished in the output folder instead of computing them again");
   bool p_resume = false;
   app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the cases already written, compute the rest");
+  bool study_only = false;
+  app.add_flag("--study-only", study_only,
+               "the map make reproduce draws: h = 0.5 and 0.25 um, every stiffness and extreme case (without it h = 0.125 um too)");
   bool list = false;
   std::string only;
   app.add_flag("--list-cases", list, "print the cases' names (the extreme cases, then one per point), one per line (for GNU parallel)");
@@ -35,7 +38,7 @@ int main(int argc, char** argv) {
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/stability_map_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
-  sm::Params p = quick ? sm::Params::quick_params() : sm::Params{};
+  sm::Params p = quick ? sm::Params::quick_params() : study_only ? sm::Params::report_params() : sm::Params{};
   if (!out.empty()) p.out_dir = out;
   p.reuse = p_reuse;
   p.resume = p_resume;

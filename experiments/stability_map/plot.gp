@@ -1,4 +1,4 @@
-# Stability map: largest stable Δt against k_l and k_b for three mesh sizes and both couplings.
+# Stability map: largest stable Δt against k_l and k_b for the map's mesh sizes and both couplings.
 #   gnuplot -e "dir='results/stability_map'; figdir='paper/report/figures'" experiments/stability_map/plot.gp
 if (!exists("dir")) dir = 'results/stability_map'
 if (!exists("figdir")) figdir = dir
@@ -11,12 +11,13 @@ set format y '10^{%L}'
 set xlabel 'k_l / 5e-8 (k_b as in the study)'
 set ylabel 'largest stable Δt (s)'
 set key bottom left
+hs = system(sprintf("awk -F, 'NR > 1 {print $2}' %s/stability_map.csv | sort -gru | tr '\\n' ' '", dir))  # the map's h, coarse first
 sel(c, h, other) = sprintf("< awk -F, '$1==\"%s\" && $2==%s && $%d==1' %s/stability_map.csv", c, h, other, dir)
-plot for [h in "0.5 0.25 0.125"] sel("explicit", h, 4) using 3:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
-     for [h in "0.5 0.25 0.125"] sel("semi-implicit", h, 4) using 3:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
-     for [h in "0.5 0.25 0.125"] sel("semi-implicit", h, 4) using 3:7 with lines dt 3 lc rgb 'gray' notitle
+plot for [h in hs] sel("explicit", h, 4) using 3:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit", h, 4) using 3:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit", h, 4) using 3:7 with lines dt 3 lc rgb 'gray' notitle
 set xlabel 'k_b / 5e-10 (k_l as in the study)'
-plot for [h in "0.5 0.25 0.125"] sel("explicit", h, 3) using 4:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
-     for [h in "0.5 0.25 0.125"] sel("semi-implicit", h, 3) using 4:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
-     for [h in "0.5 0.25 0.125"] sel("semi-implicit", h, 3) using 4:7 with lines dt 3 lc rgb 'gray' notitle
+plot for [h in hs] sel("explicit", h, 3) using 4:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit", h, 3) using 4:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit", h, 3) using 4:7 with lines dt 3 lc rgb 'gray' notitle
 unset multiplot

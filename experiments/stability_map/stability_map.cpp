@@ -29,6 +29,12 @@ Params Params::quick_params() {
   return p;
 }
 
+Params Params::report_params() {
+  Params p;
+  p.mesh_sizes = {0.5e-6, 0.25e-6};
+  return p;
+}
+
 namespace {
 
 // The narrow channel of the study with one s* = 0.55 cell at (5, 3) µm.

@@ -36,7 +36,9 @@ struct Params {
   bool reuse = false;         // read a finished map from out_dir instead of recomputing it
   bool resume = false;        // keep the points a stopped map already wrote, compute the rest
   std::string only;           // compute only this case (a name of cases())
-  static Params quick_params();  // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
+  static Params quick_params();   // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
+  static Params report_params();  // make reproduce's map: h = 0.5 and 0.25 um (h and h halved), every
+                                  // stiffness and extreme case (make evidence adds h = 0.125 um)
 };
 
 struct Point {
