@@ -284,8 +284,8 @@ static void bench_disks() {
 }
 
 // P u at a few nodes against the sweep (SemiImplicitMembraneStep's footprint, kFootprintNodeCost):
-// on the wide grid, the velocity update u + (Δt/ρ) M⁻¹ Bᵀ p of project_exact (its time less that
-// of its pressure alone) per mesh node, against projected_at per node over a footprint of
+// on the wide grid, the velocity update u + (Δt/ρ) M⁻¹ Bᵀ p of the exact projection (its time less
+// that of its pressure alone) per mesh node, against projected_at per node over a footprint of
 // the size four cells have (about 1,200 nodes: rows 20-30 of every second column, and more).
 static void bench_footprint() {
   rbc::ChannelFlowParams p;
@@ -303,9 +303,9 @@ static void bench_footprint() {
   rbc::QuasiStokesProjection& P = flow.projection();
   const double rho = p.fluid.density;
   rbc::VelocityField out(m);
-  const double whole = seconds_per_call([&] { P.project_exact(flow.velocity(), out, rho, p.dt); });
-  const double pressure_only = seconds_per_call([&] { P.exact_pressure(flow.velocity(), rho, p.dt); });
-  const std::vector<double> pressure = P.exact_pressure(flow.velocity(), rho, p.dt);
+  std::vector<double> pressure;
+  const double whole = seconds_per_call([&] { P.project(flow.velocity(), out, pressure, rho, p.dt, rbc::ProjectionForm::exact); });
+  const double pressure_only = seconds_per_call([&] { P.pressure(flow.velocity(), pressure, rho, p.dt, rbc::ProjectionForm::exact); });
   std::vector<std::pair<int, int>> nodes;
   for (int j = 20; j <= 30; ++j)
     for (int i = 0; i < m.nx; i += 3) nodes.push_back({i, j});
@@ -315,7 +315,7 @@ static void bench_footprint() {
   });
   const double sweep = whole - pressure_only;
   const double per_mesh_node = sweep / double(m.velocity_nodes()), per_node = local / double(nodes.size());
-  std::printf("\nP u at a few nodes, wide grid %dx%d: the sweep of project_exact %.1f us (%.2f ns a mesh node; its pressure %.1f us), "
+  std::printf("\nP u at a few nodes, wide grid %dx%d: the sweep of the exact projection %.1f us (%.2f ns a mesh node; its pressure %.1f us), "
               "projected_at %.1f us for %zu nodes (%.2f ns a node): a node costs %.1f mesh nodes of the sweep\n",
               m.nx, m.ny, sweep * 1e6, per_mesh_node * 1e9, pressure_only * 1e6, local * 1e6, nodes.size(), per_node * 1e9,
               per_node / per_mesh_node);

@@ -248,7 +248,7 @@ TEST(FictitiousDomain, FluxIsTheSameAtEverySectionOfTheConstriction) {
   std::vector<double> pressure = sim.flow().pressure();
   const ChannelFlowParams& fp = sim.flow().params();
   QuasiStokesProjection proj(m, fp.preconditioner, fp.cg_tolerance, fp.cg_max_iterations);
-  proj.project(p, pressure, fp.fluid.density, fp.dt);
+  proj.project(p, p, pressure, fp.fluid.density, fp.dt, ProjectionForm::iterative);
   const std::vector<double> qp = section_fluxes(m, p);
   double wlo = 1e300, whi = -1e300;
   for (int I = 0; I < m.nx / 2; ++I) {

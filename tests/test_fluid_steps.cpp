@@ -122,11 +122,7 @@ double balanced_force_leak(double y0, double dt, bool incremental, double T = 30
     }
   VelocityField f(m);
   flow.projection().pressure_force(q, f);
-  for (long n = 0; n < std::lround(T / dt); ++n) {
-    flow.project();
-    flow.advect();
-    flow.diffuse(&f);
-  }
+  for (long n = 0; n < std::lround(T / dt); ++n) flow.step([&] { return &f; });
   flow.project();
   return max_speed(flow.velocity());
 }
@@ -237,7 +233,7 @@ TEST(CouplingProducts, TheResponseIsStep4sAndLeavesZerosForTheNextProduct) {
 }
 
 TEST(QuasiStokes, TheExactProjectionIsTheProjectionWithoutItsResidualCheck) {
-  // project_exact (the semi-implicit coupling's GMRES products) inverts S once with the fast
+  // The exact form (the semi-implicit coupling's GMRES products) inverts S once with the fast
   // solver and skips CG's check; S⁻¹ is exact up to round-off, so its result must be the CG
   // projection's (tolerance 1e-12 here) to round-off: divergence ≤ 1e-10 of the field's, and the
   // two fields equal to 1e-10 of the largest velocity (round-off of a 51k-unknown solve is
@@ -248,7 +244,8 @@ TEST(QuasiStokes, TheExactProjectionIsTheProjectionWithoutItsResidualCheck) {
   set_divergent_field(flow);
   VelocityField exact = flow.velocity();
   const double before = divergence_norm(flow, exact);
-  flow.projection().project_exact(flow.velocity(), exact, p.fluid.density, p.dt);
+  std::vector<double> exact_pressure;
+  flow.projection().project(flow.velocity(), exact, exact_pressure, p.fluid.density, p.dt, ProjectionForm::exact);
   flow.project();
   const double after = divergence_norm(flow, exact);
   EXPECT_LE(after, 1e-10 * before);
@@ -263,8 +260,8 @@ TEST(QuasiStokes, TheExactProjectionIsTheProjectionWithoutItsResidualCheck) {
 }
 
 TEST(QuasiStokes, TheProjectionAtOneNodeIsTheSweepsValue) {
-  // projected_at (P u at the semi-implicit coupling's stencil nodes only) from exact_pressure:
-  // the sweep's expressions at one node, so project_exact's values to round-off at every node,
+  // projected_at (P u at the semi-implicit coupling's stencil nodes only) from the exact form's
+  // pressure: the sweep's expressions at one node, so project's values to round-off at every node,
   // walls and the periodic seam included, on two threads too (the sweep splits its rows). Not the
   // same bits: the sweep rounds each triangle's sum as it stores it, where the node's own
   // expressions may fuse a product into the next sum (measured: 1.1e-15 of the largest velocity;
@@ -277,8 +274,8 @@ TEST(QuasiStokes, TheProjectionAtOneNodeIsTheSweepsValue) {
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     VelocityField swept(m);
-    flow.projection().project_exact(flow.velocity(), swept, p.fluid.density, p.dt);
-    const std::vector<double> pressure = flow.projection().exact_pressure(flow.velocity(), p.fluid.density, p.dt);
+    std::vector<double> pressure;
+    flow.projection().project(flow.velocity(), swept, pressure, p.fluid.density, p.dt, ProjectionForm::exact);
     double largest = 0, umax = 0;
     for (int j = 0; j <= m.ny; ++j)
       for (int i = 0; i < m.nx; ++i) {
@@ -424,14 +421,13 @@ TEST(ManufacturedSolution, VelocityConvergesSecondOrderInHWithDtProportionalToHS
     for (int j = 0; j <= m.ny; ++j)
       for (int i = 0; i < m.nx; ++i) ms.velocity(m.x(i), m.y(j), 0.0, flow.velocity().u1[m.v(i, j)], flow.velocity().u2[m.v(i, j)]);
     VelocityField f(m);
-    for (int s = 0; s < steps; ++s) {
-      flow.project();
-      flow.advect();
-      const double t1 = flow.time() + p.dt;
-      for (int j = 0; j <= m.ny; ++j)
-        for (int i = 0; i < m.nx; ++i) ms.force(m.x(i), m.y(j), t1, f.u1[m.v(i, j)], f.u2[m.v(i, j)]);
-      flow.diffuse(&f);
-    }
+    for (int s = 0; s < steps; ++s)
+      flow.step([&] {  // the force of step 4, at t^{n+1}
+        const double t1 = flow.time() + p.dt;
+        for (int j = 0; j <= m.ny; ++j)
+          for (int i = 0; i < m.nx; ++i) ms.force(m.x(i), m.y(j), t1, f.u1[m.v(i, j)], f.u2[m.v(i, j)]);
+        return &f;
+      });
     double e = 0;
     for (int j = 0; j <= m.ny; ++j)
       for (int i = 0; i < m.nx; ++i) {

@@ -79,7 +79,7 @@ TEST(RigidDisks, StepFourHoldsTheDiskRigidWithNoNetForceOrTorque) {
         f[c] = s - b[c][k];
       }
       double ox = i * m.h - d.center.x();
-      ox -= p.length * std::round(ox / p.length);
+      ox = nearest_image(ox, p.length);
       const double oy = (r + 1) * m.h - d.center.y();
       net += Eigen::Vector3d(f[0], f[1], ox * f[1] - oy * f[0]);
       total += std::abs(f[0]) + std::abs(f[1]);

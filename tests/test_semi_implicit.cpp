@@ -118,7 +118,7 @@ TEST(StepMobility, EqualsSpreadSolveProjectInterpolate) {
   spread_forces(mesh, r, F, f);
   std::vector<double> pressure(mesh.pressure_nodes(), 0.0);
   flow.diffusion().add_force_response(w, f);
-  flow.projection().project(w, pressure, p.fluid.density, p.dt);
+  flow.projection().project(w, w, pressure, p.fluid.density, p.dt, ProjectionForm::iterative);
   Points U;
   interpolate_velocity(mesh, w, r, U);
   Eigen::MatrixXd M;

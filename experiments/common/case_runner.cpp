@@ -11,6 +11,7 @@
 #include <tuple>
 
 #include "io/csv.hpp"
+#include "mesh/channel_mesh.hpp"
 
 namespace rbc::case_runner {
 
@@ -55,7 +56,7 @@ std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, 
   double s = 0, sy = 0;
   for (std::size_t b = 0; b < a.size() && b < ref.size(); ++b) {
     double dx = a[b].x() - ref[b].x();
-    dx -= L * std::round(dx / L);
+    dx = nearest_image(dx, L);
     const double dy = a[b].y() - ref[b].y();
     s += dx * dx + dy * dy;
     sy += dy * dy;

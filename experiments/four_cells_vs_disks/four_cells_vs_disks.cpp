@@ -13,6 +13,7 @@
 
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
+#include "mesh/channel_mesh.hpp"
 #include "reference/uncertainty.hpp"
 
 #include <nlohmann/json.hpp>
@@ -43,7 +44,7 @@ std::array<std::array<double, 2>, 4> places(unsigned seed) {
 
 double periodic_gap(double a, double b, double L) {
   double d = a - b;
-  d -= L * std::round(d / L);
+  d = nearest_image(d, L);
   return std::abs(d);
 }
 
@@ -358,7 +359,7 @@ CaseResult run_case(const Params& p, const Case& c) {
   if (c.disks) {
     std::ofstream d(out / "disks_end.dat");
     d << "# x1 (um, in [0, L)), x2 (um), radius (um) of each disk at t = " << r.t.back() << " s\n";
-    for (int b = 0; b < 4; ++b) d << (r.x[n - 1][b] - L * std::floor(r.x[n - 1][b] / L)) * 1e6 << " " << r.y[n - 1][b] * 1e6 << " " << kDiskRadius * 1e6 << "\n";
+    for (int b = 0; b < 4; ++b) d << image_in_period(r.x[n - 1][b], L) * 1e6 << " " << r.y[n - 1][b] * 1e6 << " " << kDiskRadius * 1e6 << "\n";
   }
   return r;
 }

@@ -20,7 +20,7 @@ constexpr std::array<Triangle, 2> kTriangles = {{
 
 SparseMatrix assemble_p1_stiffness(int nx, int ny) {
   std::vector<Eigen::Triplet<double>> t;
-  auto node = [nx](int i, int j) { return j * nx + ((i % nx) + nx) % nx; };
+  auto node = [nx](int i, int j) { return j * nx + wrap_index(i, nx); };
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
       for (const Triangle& T : kTriangles)

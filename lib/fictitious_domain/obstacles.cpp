@@ -35,7 +35,7 @@ namespace {
 // Does the periodic image of x (channel length L) lie in the obstacle's x-range [a, b + slack]?
 bool in_x_range(const Obstacle& o, double x, double L, double slack) {
   if (o.x[1] - o.x[0] >= L) return true;
-  const double s = x - L * std::floor((x - o.x[0]) / L);  // the image of x in [a, a + L)
+  const double s = image_in_period(x, L, o.x[0]);  // the image of x in [a, a + L)
   return s <= o.x[1] + slack;
 }
 

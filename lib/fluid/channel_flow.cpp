@@ -50,11 +50,11 @@ void ChannelFlow::set_poiseuille() {
 }
 
 ProjectionReport ChannelFlow::project() {
-  if (!p_.incremental_pressure) return projection_.project(u_, pressure_, p_.fluid.density, p_.dt);
+  if (!p_.incremental_pressure) return projection_.project(u_, u_, pressure_, p_.fluid.density, p_.dt, ProjectionForm::iterative);
   // Incremental form: the projection's pressure is the increment φ (started from 0, its value in
   // a steady flow); p^{n+1} = p^n + φ.
   increment_.assign(pressure_.size(), 0.0);
-  const ProjectionReport r = projection_.project(u_, increment_, p_.fluid.density, p_.dt);
+  const ProjectionReport r = projection_.project(u_, u_, increment_, p_.fluid.density, p_.dt, ProjectionForm::iterative);
   for (std::size_t k = 0; k < pressure_.size(); ++k) pressure_[k] += increment_[k];
   return r;
 }
@@ -78,12 +78,12 @@ void ChannelFlow::diffuse(const VelocityField* force_field) {
   ++steps_;
 }
 
-ProjectionReport ChannelFlow::step() {
-  // The study's Lie scheme for a cell-free channel:
-  const ProjectionReport r = project();  // (1) quasi-Stokes: u^{n+1/3}, p^{n+1}
-  /* (2) membrane: no cells */
-  advect();                              // (3) wave-like advection: u^{n+2/3}
-  diffuse();                             // (4) diffusion with f_p: u^{n+1}
+ProjectionReport ChannelFlow::step(const MembraneStep& membrane_step) {
+  // The study's Lie scheme (its Section 2.4, eqs. (19)-(21) for the fluid):
+  const ProjectionReport r = project();                                   // (1), eq. (19): u^{n+1/3}, p^{n+1}
+  const VelocityField* f_B = membrane_step ? membrane_step() : nullptr;  // (2) membranes: r^{n+1}, f_B
+  advect();                                                               // (3), eq. (20): u^{n+2/3}
+  diffuse(f_B);                                                           // (4), eq. (21) with f_p + f_B: u^{n+1}
   return r;
 }
 

@@ -1,7 +1,9 @@
 #pragma once
 // The plasma in the periodic channel: state (u, p, t) and the three fluid steps of the study's
-// Lie scheme (its Section 2.4). The membrane step (2) belongs to the cells and is called between
-// project() and advect() by whoever owns cells; a cell-free channel just leaves it out.
+// Lie scheme (its Section 2.4). The membrane step (2) belongs to the cells: whoever owns cells
+// hands it to step(), which calls it between project() and advect(); a cell-free channel just
+// leaves it out.
+#include <functional>
 #include <string>
 
 #include "fluid/diffusion.hpp"
@@ -67,8 +69,11 @@ class ChannelFlow {
     }
   }
   ImplicitDiffusion& diffusion() { return diffusion_; }
-  // One step of a cell-free channel: steps 1, 3, 4 (step 2 has nothing to move).
-  ProjectionReport step();
+  // One step of the Lie scheme, tⁿ → tⁿ⁺¹: steps 1, 2, 3, 4. Step 2 is the caller's membrane
+  // step: it moves the cells with u^{n+1/3} and returns the force density step 4 adds to f_p
+  // (N/m³; null: none). Without one (a cell-free channel) step 2 has nothing to move.
+  using MembraneStep = std::function<const VelocityField*()>;
+  ProjectionReport step(const MembraneStep& membrane_step = nullptr);
 
   void set_poiseuille();  // u = the exact cell-free steady profile (for tests and warm starts)
 

@@ -85,39 +85,70 @@ void QuasiStokesProjection::divergence(const VelocityField& u, std::vector<doubl
   B_.apply(u.u1, u.u2, div);
 }
 
-ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<double>& p, double rho, double dt) {
+ProjectionReport QuasiStokesProjection::project(const VelocityField& u, VelocityField& out, std::vector<double>& p, double rho,
+                                                double dt, ProjectionForm form, const SchurSolve& schur_solve) {
+  // The pressure, then the velocity update out = u + (Δt/ρ) M⁻¹ Bᵀ p (none for a divergence at
+  // round-off level).
   ProjectionReport rep;
+  if (solve_pressure(u, p, rho, dt, form, schur_solve, rep))
+    add_pressure_gradient(u, p, rho, dt, out);
+  else if (&out != &u)
+    out = u;
+  return rep;
+}
+
+ProjectionReport QuasiStokesProjection::pressure(const VelocityField& u, std::vector<double>& p, double rho, double dt,
+                                                 ProjectionForm form, const SchurSolve& schur_solve) {
+  ProjectionReport rep;
+  solve_pressure(u, p, rho, dt, form, schur_solve, rep);
+  return rep;
+}
+
+bool QuasiStokesProjection::solve_pressure(const VelocityField& u, std::vector<double>& p, double rho, double dt,
+                                           ProjectionForm form, const SchurSolve& schur_solve, ProjectionReport& rep) {
+  if (schur_solve && !(exact_pc_ && form == ProjectionForm::exact))
+    throw std::logic_error("QuasiStokesProjection: a caller's S⁻¹ needs the exact form and the Schur preconditioner");
   if (p.size() != mesh_.pressure_nodes()) p.assign(mesh_.pressure_nodes(), 0.0);
   // Right-hand side b = −(ρ/Δt) B uⁿ.
   std::vector<double>& b = b_;
   divergence(u, b);
   scale(b, -rho / dt);
-  const double bnorm = std::sqrt(dot(b, b));
-  // A divergence at round-off level (a parallel flow) needs no correction: compare ‖b‖ with the
-  // size its terms have, (ρ/Δt) max|u| ‖row sums of |B|‖.
-  double umax = 0;  // a maximum is exact in any order: the threads share it
-  const std::ptrdiff_t size = std::ptrdiff_t(u.u1.size());
+  // The exact form with the exact Schur preconditioner is one fast solve and nothing else; every
+  // other case checks the divergence first. A divergence at round-off level (a parallel flow)
+  // needs no correction: compare ‖b‖ with the size its terms have, (ρ/Δt) max|u| ‖row sums of |B|‖.
+  const bool one_solve = form == ProjectionForm::exact && exact_pc_;
+  if (form == ProjectionForm::exact && !exact_pc_) p.assign(p.size(), 0.0);  // no exact solve: CG from p = 0
+  double bnorm = 0, floor = 0;
+  if (!one_solve) {
+    bnorm = std::sqrt(dot(b, b));
+    double umax = 0;  // a maximum is exact in any order: the threads share it
+    const std::ptrdiff_t size = std::ptrdiff_t(u.u1.size());
 #pragma omp parallel for schedule(static) reduction(max : umax)
-  for (std::ptrdiff_t n = 0; n < size; ++n) umax = std::max({umax, std::abs(u.u1[n]), std::abs(u.u2[n])});
-  const double floor = 1e-13 * rho / dt * umax * row_abs_norm_;
-  if (bnorm <= floor) {
-    p.assign(p.size(), 0.0);
-    return rep;
+    for (std::ptrdiff_t n = 0; n < size; ++n) umax = std::max({umax, std::abs(u.u1[n]), std::abs(u.u2[n])});
+    floor = 1e-13 * rho / dt * umax * row_abs_norm_;
+    if (bnorm <= floor) {
+      p.assign(p.size(), 0.0);
+      return false;
+    }
   }
   // Preconditioned conjugate gradients on S p = b. With the exact Schur preconditioner the first
   // iteration from p = 0 solves the system, p = α S⁻¹ b with α = 1 to round-off: we take p = S⁻¹ b
-  // (one iteration, as project_exact), without the S product that α and the residual check cost
+  // (one iteration, in either form), without the S product that α and the residual check cost
   // (Bᵀ and B, a third of the projection). S⁻¹ is a fixed factorisation of S, exact to round-off
   // at every step (tests: DiscreteDivergenceAfterProjectionIsBelowTheCgTolerance,
   // TheExactProjectionIsTheProjectionWithoutItsResidualCheck); the residual is then not measured
   // (NaN). With the study's Laplacian preconditioner we start from the previous pressure (warm
   // start) and iterate to the tolerance.
   if (exact_pc_) {
-    precondition(b, p);
+    if (schur_solve) {  // the caller's S⁻¹
+      schur_solve(b.data(), p.data());
+      remove_mean(p);
+    } else {
+      precondition(b, p);
+    }
     rep.iterations = 1;
     rep.residual = NAN;
-    add_pressure_gradient(u, p, rho, dt, u);
-    return rep;
+    return true;
   }
   apply_schur(p, r_);
   for (std::size_t k = 0; k < r_.size(); ++k) r_[k] = b[k] - r_[k];
@@ -147,8 +178,7 @@ ProjectionReport QuasiStokesProjection::project(VelocityField& u, std::vector<do
   rep.residual = rnorm / bnorm;
   rep.converged = rnorm <= target;
   remove_mean(p);
-  add_pressure_gradient(u, p, rho, dt, u);
-  return rep;
+  return true;
 }
 
 void QuasiStokesProjection::add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho,
@@ -170,32 +200,6 @@ void QuasiStokesProjection::pressure_force(const std::vector<double>& p, Velocit
 
 PeriodicBandedSolver::Operator QuasiStokesProjection::schur_operator() const {
   return [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); };
-}
-
-void QuasiStokesProjection::project_exact(const VelocityField& u, VelocityField& out, double rho, double dt,
-                                          const SchurSolve& schur_solve) {
-  if (schur_solve && !exact_pc_) throw std::logic_error("QuasiStokesProjection: a caller's S⁻¹ needs the Schur preconditioner");
-  if (!exact_pc_) {
-    out = u;
-    std::vector<double> p(mesh_.pressure_nodes(), 0.0);
-    project(out, p, rho, dt);
-    return;
-  }
-  add_pressure_gradient(u, exact_pressure(u, rho, dt, schur_solve), rho, dt, out);
-}
-
-const std::vector<double>& QuasiStokesProjection::exact_pressure(const VelocityField& u, double rho, double dt,
-                                                                 const SchurSolve& schur_solve) {
-  if (!exact_pc_) throw std::logic_error("QuasiStokesProjection: the exact pressure needs the Schur preconditioner");
-  divergence(u, b_);
-  scale(b_, -rho / dt);
-  if (schur_solve) {  // p = S⁻¹ b, mean-zero
-    schur_solve(b_.data(), z_.data());
-    remove_mean(z_);
-  } else {
-    precondition(b_, z_);
-  }
-  return z_;
 }
 
 void QuasiStokesProjection::projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j,

@@ -22,6 +22,7 @@
 namespace rbc {
 
 enum class PressurePreconditioner { schur, laplacian };
+enum class ProjectionForm { iterative, exact };  // QuasiStokesProjection::project
 PressurePreconditioner parse_pressure_preconditioner(const std::string& name);  // throws on unknown
 
 struct ProjectionReport {
@@ -37,29 +38,30 @@ class QuasiStokesProjection {
  public:
   QuasiStokesProjection(const ChannelMesh& mesh, PressurePreconditioner pc, double tolerance, int max_iterations);
 
-  // Projects u (in place) onto discretely divergence-free fields; p holds the warm start on
-  // entry and the pressure (Pa) on exit.
-  ProjectionReport project(VelocityField& u, std::vector<double>& p, double rho, double dt);
+  // P u: u projected onto the discretely divergence-free fields, into out (out may be u); p is
+  // the pressure (Pa) on exit, and on entry the warm start of the iterative form. In two forms:
+  //   iterative — step 1 of the scheme: CG on S p = b from p to the tolerance (with the exact
+  //     Schur preconditioner the first iteration from p = 0 solves it: p = S⁻¹ b, one fast solve);
+  //     a divergence at round-off level (a parallel flow) is left as it is, p = 0.
+  //   exact — P as a fixed linear map (the semi-implicit coupling's GMRES products): p = S⁻¹ b in
+  //     one fast solve, no residual check (the stencil sweeps of S fewer); schur_solve: z = S⁻¹ r
+  //     by a caller's solver of the same S in place of the projection's own (e.g. the coupling's
+  //     single-precision one: coupling_products.hpp), the mean removed from z either way. With the
+  //     Laplacian preconditioner there is no exact solve: the iterative form from p = 0.
+  using SchurSolve = std::function<void(const double* r, double* z)>;
+  ProjectionReport project(const VelocityField& u, VelocityField& out, std::vector<double>& p, double rho, double dt,
+                           ProjectionForm form, const SchurSolve& schur_solve = nullptr);
+  // project in its two halves, for callers that need P u at a few nodes only (the coupling's
+  // J P u at the membrane nodes): its pressure p alone (the same forms), and from it
+  // (P u)(x_ij) = u + (Δt/ρ) M⁻¹ Bᵀ p on the interior, u on the walls: project's value there to
+  // round-off.
+  ProjectionReport pressure(const VelocityField& u, std::vector<double>& p, double rho, double dt, ProjectionForm form,
+                            const SchurSolve& schur_solve = nullptr);
+  void projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j, double& v1,
+                    double& v2) const;
   // The pressure as a nodal force density for step 4, out = M⁻¹ Bᵀ p (N/m³ for p in Pa; zero on
   // the walls): the incremental form's −∇p (channel_flow.hpp).
   void pressure_force(const std::vector<double>& p, VelocityField& out);
-
-  // The same projection as a fixed linear map, for the semi-implicit coupling's GMRES products:
-  // with the exact Schur preconditioner p = S⁻¹ b in one fast solve and no residual check
-  // (B, one solve, Bᵀ: two stencil sweeps fewer than project()); with the Laplacian one, project()
-  // from p = 0. out = P u (out may be u).
-  // schur_solve: z = S⁻¹ r in place of the projection's own fast solve (a caller's solver of the
-  // same S, e.g. the coupling's single-precision one: coupling_products.hpp); only with the
-  // exact Schur preconditioner. The mean is removed from z either way.
-  using SchurSolve = std::function<void(const double* r, double* z)>;
-  void project_exact(const VelocityField& u, VelocityField& out, double rho, double dt, const SchurSolve& schur_solve = nullptr);
-  // project_exact in two parts, for callers that need P u at a few nodes only (the coupling's
-  // J P u at the membrane nodes): its pressure p = S⁻¹(−(ρ/Δt) B u), mean-zero (only with the
-  // exact Schur preconditioner; the reference is valid until the next call), and (P u)(x_ij) =
-  // u + (Δt/ρ) M⁻¹ Bᵀ p on the interior, u on the walls: project_exact's value there to round-off.
-  const std::vector<double>& exact_pressure(const VelocityField& u, double rho, double dt, const SchurSolve& schur_solve = nullptr);
-  void projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j, double& v1,
-                    double& v2) const;
   // Whether S⁻¹ is the exact fast solve, and S itself as an operator (to build another solver of it).
   bool exact_schur_solve() const { return exact_pc_; }
   PeriodicBandedSolver::Operator schur_operator() const;
@@ -74,6 +76,10 @@ class QuasiStokesProjection {
   void add_pressure_gradient(const VelocityField& u, const std::vector<double>& p, double rho, double dt, VelocityField& out);
   // z = S⁻¹ r (or the Laplacian's), mean-zero.
   void precondition(const std::vector<double>& r, std::vector<double>& z);
+  // The pressure of project (rep filled in); false when u needs no correction (its divergence at
+  // round-off level, p = 0).
+  bool solve_pressure(const VelocityField& u, std::vector<double>& p, double rho, double dt, ProjectionForm form,
+                      const SchurSolve& schur_solve, ProjectionReport& rep);
 
   ChannelMesh mesh_;
   DivergenceStencil B_;            // B and Bᵀ (Bᵀ on the interior velocity nodes only)

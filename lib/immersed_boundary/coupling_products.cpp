@@ -12,10 +12,12 @@ CouplingProducts::CouplingProducts(const ChannelMesh& mesh, ImplicitDiffusion& d
       rho_(rho),
       dt_(dt),
       rhs1_(std::size_t(mesh.nx) * (mesh.ny - 1), 0.0),
-      rhs2_(rhs1_.size(), 0.0) {
+      rhs2_(rhs1_.size(), 0.0),
+      pressure_(mesh.pressure_nodes(), 0.0) {
   if (precision == Precision::kSingleWherePossible && !diffusion.constrained() && projection.exact_schur_solve()) {
     single_helmholtz_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.nx, mesh.ny - 1, diffusion.helmholtz_operator(), false);
     single_schur_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.pnx(), mesh.pny(), projection.schur_operator(), true);
+    schur_solve_ = [this](const double* r, double* z) { single_schur_->solve(r, z); };
   }
 }
 
@@ -42,15 +44,12 @@ void CouplingProducts::response(VelocityField& out) {
 }
 
 void CouplingProducts::project(const VelocityField& u, VelocityField& out) {
-  if (single_schur_)
-    projection_.project_exact(u, out, rho_, dt_, [this](const double* r, double* z) { single_schur_->solve(r, z); });
-  else
-    projection_.project_exact(u, out, rho_, dt_);
+  projection_.project(u, out, pressure_, rho_, dt_, ProjectionForm::exact, schur_solve_);
 }
 
 const std::vector<double>& CouplingProducts::pressure(const VelocityField& u) {
-  if (single_schur_) return projection_.exact_pressure(u, rho_, dt_, [this](const double* r, double* z) { single_schur_->solve(r, z); });
-  return projection_.exact_pressure(u, rho_, dt_);
+  projection_.pressure(u, pressure_, rho_, dt_, ProjectionForm::exact, schur_solve_);
+  return pressure_;
 }
 
 }  // namespace rbc

@@ -41,10 +41,10 @@ class CouplingProducts {
   std::pair<double*, double*> force_rhs() { return {rhs1_.data(), rhs2_.data()}; }
   // out = A⁻¹ of those (m/s, zero on the walls); leaves them zero again.
   void response(VelocityField& out);
-  // out = P u (the projection with S⁻¹ exact; out may not be u).
+  // out = P u (the projection's exact form; out may not be u).
   void project(const VelocityField& u, VelocityField& out);
   // project's pressure alone, for P u at a few nodes (QuasiStokesProjection::projected_at; only
-  // where exact_projection()).
+  // where exact_projection()); valid until the next call.
   const std::vector<double>& pressure(const VelocityField& u);
   bool exact_projection() const { return projection_.exact_schur_solve(); }
   // Whether the solves run in single precision (see the top of this file).
@@ -56,7 +56,9 @@ class CouplingProducts {
   QuasiStokesProjection& projection_;
   double rho_, dt_;
   std::vector<double> rhs1_, rhs2_;
+  std::vector<double> pressure_;  // the projection's
   std::unique_ptr<SinglePeriodicBandedSolver> single_helmholtz_, single_schur_;  // null: the double solves
+  QuasiStokesProjection::SchurSolve schur_solve_;  // single_schur_'s solve (empty: the projection's own)
 };
 
 }  // namespace rbc

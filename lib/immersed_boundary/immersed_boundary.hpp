@@ -29,14 +29,16 @@ struct NodeStencil {
 };
 void node_stencils(const ChannelMesh& mesh, const Points& r, std::vector<NodeStencil>& stencils);
 
-// Adds the spread of forces F at positions r to field (interior nodes only).
+// Spreading (10) is one loop over the stencils (immersed_boundary.cpp), in two layouts:
+// adds the spread f_B of forces F at positions r (or at their stencils) to field (interior nodes only) ...
 void spread_forces(const ChannelMesh& mesh, const Points& r, const Points& F, VelocityField& field);
 void spread_forces(const ChannelMesh& mesh, const std::vector<NodeStencil>& r, const Points& F, VelocityField& field);
-// Adds h² times the spread of forces F (N/m, (x, y) of node i at F[2i], F[2i + 1]) to two arrays
-// over the interior rows j = 1..ny-1 only (x1 fastest; the layout of step 4's right-hand sides):
-// f1 gets the x1 component, f2 the x2 one. The same weights as spread_forces, without its 1/h².
+// ... or adds h² f_B (F in N/m, (x, y) of node i at F[2i], F[2i + 1]) to two arrays over the
+// interior rows j = 1..ny-1 only (x1 fastest; the layout of step 4's right-hand sides): f1 gets
+// the x1 component, f2 the x2 one.
 void spread_forces_interior(const ChannelMesh& mesh, const std::vector<NodeStencil>& r, const double* F, double* f1, double* f2);
-// U(r_i) for every node.
+// Interpolation (13), U(r_i) for every node, is one sum over the stencils too (immersed_boundary.cpp),
+// here from a field over the mesh, in StencilFootprint::interpolate from values at the footprint.
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const Points& r, Points& U);
 void interpolate_velocity(const ChannelMesh& mesh, const VelocityField& u, const std::vector<NodeStencil>& r, Points& U);
 
@@ -51,8 +53,8 @@ class StencilFootprint {
   bool build(const ChannelMesh& mesh, const std::vector<std::vector<NodeStencil>>& stencils,
              std::size_t max_nodes = std::numeric_limits<std::size_t>::max());
   const std::vector<std::pair<int, int>>& nodes() const { return nodes_; }  // (i, j)
-  // J u at cell c's nodes from u's values at nodes() (v1[s], v2[s] at nodes()[s]): the sums of
-  // interpolate_velocity, in its order (same bits as J of a field holding those values).
+  // J u at cell c's nodes from u's values at nodes() (v1[s], v2[s] at nodes()[s]): interpolate_velocity's
+  // sums, in its order (same bits as J of a field holding those values).
   void interpolate(int c, const std::vector<NodeStencil>& stencils, const double* v1, const double* v2, Points& U) const;
 
  private:

@@ -21,6 +21,7 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       dt_(flow.params().dt),
       projected_(flow.mesh()),
       pressure_(flow.mesh().pressure_nodes(), 0.0),
+      exact_pressure_(flow.mesh().pressure_nodes(), 0.0),
       move_(flow.mesh(), model),
       mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
       correction_(flow.mesh()),
@@ -285,11 +286,11 @@ Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells
   // spread F^{n+1}.
   const auto& stencils = move_.stencils();
   if (stencils.size() != cells.size()) throw std::logic_error("semi-implicit coupling: implicit_correction without step");
-  // With the exact Schur preconditioner P is the products' projection, without CG's residual
-  // checks (CG takes that one iteration too). J P needs P only under the stencils: where those
-  // nodes are few against the mesh (a few cells) P is made there alone
-  // (QuasiStokesProjection::projected_at: project_exact's values to round-off), its pressure
-  // still a solve over the mesh; a sweep over the mesh fewer per product.
+  // With the exact Schur preconditioner P is the products' projection, the exact form (CG takes
+  // that one iteration too). J P needs P only under the stencils: where those nodes are few
+  // against the mesh (a few cells) P is made there alone (QuasiStokesProjection::projected_at:
+  // the sweep's values to round-off), its pressure still a solve over the mesh; a sweep over the
+  // mesh fewer per product.
   const bool exact = flow_.projection().exact_schur_solve();
   project_at_footprint_ = false;
   if (exact && options_.projection != CouplingOptions::Projection::kSweep) {
@@ -299,13 +300,17 @@ Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells
     project_at_footprint_ = footprint_.build(mesh_, stencils,
                                              forced ? std::numeric_limits<std::size_t>::max() : (mesh_.velocity_nodes() - 1) / kFootprintNodeCost);
   }
+  // The exact form (without the exact solve: CG from p = 0), but for one cell with the Laplacian
+  // preconditioner: CG from the last step's pressure.
+  QuasiStokesProjection& P = flow_.projection();
+  const double rho = flow_.params().fluid.density;
   if (project_at_footprint_) {
-    project_at_footprint(u, flow_.projection().exact_pressure(u, flow_.params().fluid.density, dt_));
-  } else if (exact || ncells > 1) {  // (ncells > 1 without the exact solve: CG from p = 0)
-    flow_.projection().project_exact(u, projected_, flow_.params().fluid.density, dt_);
-  } else {  // one cell, the Laplacian preconditioner: CG from the last step's pressure
-    projected_ = u;
-    flow_.projection().project(projected_, pressure_, flow_.params().fluid.density, dt_);
+    P.pressure(u, exact_pressure_, rho, dt_, ProjectionForm::exact);
+    project_at_footprint(u, exact_pressure_);
+  } else if (exact || ncells > 1) {
+    P.project(u, projected_, exact_pressure_, rho, dt_, ProjectionForm::exact);
+  } else {
+    P.project(u, projected_, pressure_, rho, dt_, ProjectionForm::iterative);
   }
   Eigen::VectorXd rhs(offset_[ncells]);
 #pragma omp parallel for schedule(dynamic)
@@ -357,7 +362,7 @@ void SemiImplicitMembraneStep::assign_spreading_slabs(const std::vector<Cell>& c
   if (2 * (reach + 3 * mesh_.h) < slab) {
     slab_cells_.resize(kSpreadSlabs);
     for (int c = 0; c < ncells; ++c) {
-      const double x = mean[c] - mesh_.length * std::floor(mean[c] / mesh_.length);
+      const double x = image_in_period(mean[c], mesh_.length);
       slab_cells_[std::min(kSpreadSlabs - 1, int(x / slab))].push_back(c);
     }
   }

@@ -151,6 +151,7 @@ class SemiImplicitMembraneStep {
   double dt_;
   VelocityField projected_;             // P u⁰
   std::vector<double> pressure_;        // its pressure, the warm start of the next predictor (one cell, Laplacian preconditioner)
+  std::vector<double> exact_pressure_;  // its pressure in the projection's exact form (no warm start)
   ExplicitMembraneStep move_;
   StepMobility mobility_;
   VelocityField correction_;

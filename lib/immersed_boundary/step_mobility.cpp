@@ -30,12 +30,12 @@ StepMobility::StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion
         diffusion.solve_interior(b.data());
         std::copy(b.begin(), b.end(), (beta == 0 ? u.u1 : u.u2).begin() + nx);
         std::fill(p.begin(), p.end(), 0.0);
-        projection.project(u, p, rho, dt);
+        projection.project(u, u, p, rho, dt, ProjectionForm::iterative);
         for (int alpha = 0; alpha < 2; ++alpha) {
           const std::vector<double>& f = alpha == 0 ? u.u1 : u.u2;
           for (int j = 0; j < rows_; ++j)
             for (int i = 0; i < nx; ++i)  // stored by column offset i − parity
-              entry(j, js, (i - parity + nx) % nx)[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
+              entry(j, js, wrap_index(i - parity, nx))[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
         }
       }
 }
@@ -67,7 +67,7 @@ void StepMobility::averaged_kernel(int j, int js, double z, double out[4]) const
   for (int v = 0; v < 4; ++v) out[v] = 0.0;
   for (int d = int(std::ceil(z - 4.0)); d <= int(std::floor(z + 4.0)); ++d) {
     const double c = 0.5 * peskin_autocorrelation(d - z);
-    const double* g = entry(j, js, ((d % m_.nx) + m_.nx) % m_.nx);
+    const double* g = entry(j, js, wrap_index(d, m_.nx));
     for (int v = 0; v < 4; ++v) out[v] += c * (g[v] + g[4 + v]);
   }
 }
@@ -99,7 +99,7 @@ void StepMobility::prepare_phase_average(double extent) {
         for (int d = (zm - 4 * m) / m - 1; d <= (zm + 4 * m) / m + 1; ++d) {
           const int k = d * m - zm;
           if (k <= -4 * m || k >= 4 * m) continue;
-          const double* g = entry(j, js, ((d % nx) + nx) % nx);
+          const double* g = entry(j, js, wrap_index(d, nx));
           for (int v = 0; v < 4; ++v) acc[v] += c[k + 4 * m] * (g[v] + g[4 + v]);
         }
         for (int v = 0; v < 4; ++v) out[v] = float(acc[v]);
@@ -128,7 +128,7 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
     for (int k = 0; k < n; ++k) {
       for (int l = 0; l < n; ++l) {
         double z = x[k] - x[l];
-        z -= nx * std::round(z / nx);  // the nearest periodic image
+        z = nearest_image(z, nx);  // the nearest periodic image
         const double u = (z + Z_) * m;
         zs[l] = z;
         near[l] = std::abs(z) <= Z_;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "mesh/channel_mesh.hpp"
+
 namespace rbc {
 
 namespace {
@@ -31,7 +33,7 @@ double orient(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::V
 // The shift (a multiple of L) that brings box b nearest to box a in x1.
 double nearest_shift(const Box& a, const Box& b, double L) {
   if (L <= 0) return 0;
-  return -L * std::round((0.5 * (b.x0 + b.x1) - 0.5 * (a.x0 + a.x1)) / L);
+  return shift_nearest(0.5 * (b.x0 + b.x1), L, 0.5 * (a.x0 + a.x1));
 }
 
 bool boxes_overlap(const Box& a, const Box& b, double shift) {

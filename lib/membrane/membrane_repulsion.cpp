@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh/channel_mesh.hpp"
+
 namespace rbc {
 
 RepulsionCount add_membrane_repulsion(const std::vector<Cell>& cells, double L, double H, const MembraneRepulsion& rep,
@@ -36,7 +38,7 @@ RepulsionCount add_membrane_repulsion(const std::vector<Cell>& cells, double L, 
   for (std::size_t k = 0; k < cells.size(); ++k)
     for (std::size_t i = 0; i < cells[k].nodes.size(); ++i) {
       const auto& r = cells[k].nodes[i];
-      const double x = r.x() - L * std::floor(r.x() / L);
+      const double x = image_in_period(r.x(), L);
       const int ix = std::min(bx - 1, int(x / wx)), iy = std::clamp(int(std::floor(r.y() / wy)) + 1, 0, by - 1);
       const int id = first_node[k] + int(i);
       bin[id] = iy * bx + ix;
@@ -58,12 +60,12 @@ RepulsionCount add_membrane_repulsion(const std::vector<Cell>& cells, double L, 
     for (int dy = -1; dy <= 1; ++dy) {
       if (iy + dy < 0 || iy + dy >= by) continue;
       for (int dx = bx == 1 ? 0 : -1; dx <= (bx == 1 ? 0 : 1); ++dx) {
-        const int other = (iy + dy) * bx + ((ix + dx) % bx + bx) % bx;
+        const int other = (iy + dy) * bx + wrap_index(ix + dx, bx);
         for (int m = start[other]; m < start[other + 1]; ++m) {
           const Ref& b = sorted[m];
           if (a.cell == b.cell) continue;
           double ex = a.x - b.x;
-          ex -= L * std::round(ex / L);
+          ex = nearest_image(ex, L);
           const double ey = a.y - b.y, d = std::hypot(ex, ey);
           if (d >= rho || d == 0) continue;
           push_sum += push(d) * Eigen::Vector2d(ex, ey) / d;

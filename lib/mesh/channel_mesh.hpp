@@ -7,11 +7,25 @@
 // Velocity is P1 on T_h: nodes (i h, j h), i = 0..nx-1 (periodic), j = 0..ny (j = 0, ny on walls).
 // T_2h is the same construction with size 2h; it is the coarse mesh that T_h refines by
 // midpoints ("P1-iso-P2"). Pressure is P1 on T_2h: nodes (2 I h, 2 J h), I = 0..nx/2-1, J = 0..ny/2.
+#include <cmath>
 #include <cstddef>
 #include <string>
 #include <vector>
 
 namespace rbc {
+
+// The channel is periodic in x1 with period L: x and x + kL (k an integer) are the same point.
+// The whole periods that bring x nearest to c, and the image of x there, in [c − L/2, c + L/2]:
+//   s = −L round((x − c)/L),   x + s;
+// with c = 0 the image is the shortest form of an offset x between two points.
+inline double shift_nearest(double x, double L, double c = 0.0) { return -L * std::round((x - c) / L); }
+inline double nearest_image(double x, double L, double c = 0.0) { return x + shift_nearest(x, L, c); }
+// The whole periods that bring x into [a, a + L), and the image of x there:
+//   s = −L floor((x − a)/L),   x + s.
+inline double shift_into_period(double x, double L, double a = 0.0) { return -L * std::floor((x - a) / L); }
+inline double image_in_period(double x, double L, double a = 0.0) { return x + shift_into_period(x, L, a); }
+// The same for a node index i of a period of n nodes: i mod n in [0, n).
+inline int wrap_index(int i, int n) { return ((i % n) + n) % n; }
 
 struct ChannelMesh {
   double length = 0;  // L, m (period in x1)
@@ -28,7 +42,7 @@ struct ChannelMesh {
   int velocity_rows() const { return ny + 1; }
   std::size_t velocity_nodes() const { return std::size_t(nx) * std::size_t(ny + 1); }
   std::size_t v(int i, int j) const { return std::size_t(j) * nx + std::size_t(wrap(i)); }
-  int wrap(int i) const { return ((i % nx) + nx) % nx; }
+  int wrap(int i) const { return wrap_index(i, nx); }
   double x(int i) const { return i * h; }
   double y(int j) const { return j * h; }
 
@@ -36,7 +50,7 @@ struct ChannelMesh {
   int pnx() const { return nx / 2; }
   int pny() const { return ny / 2 + 1; }
   std::size_t pressure_nodes() const { return std::size_t(pnx()) * std::size_t(pny()); }
-  std::size_t p(int I, int J) const { return std::size_t(J) * pnx() + std::size_t(((I % pnx()) + pnx()) % pnx()); }
+  std::size_t p(int I, int J) const { return std::size_t(J) * pnx() + std::size_t(wrap_index(I, pnx())); }
 
   std::string describe() const;  // "160 x 80 cells, h = 0.125 um"
 };

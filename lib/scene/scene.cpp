@@ -252,7 +252,7 @@ bool inside(const Points& r, const Eigen::Vector2d& p) {
 bool any_node_inside(const Points& outer, const Points& inner, double L) {
   const double c = area_centroid(outer).x();
   for (Eigen::Vector2d p : inner) {
-    p.x() -= L * std::round((p.x() - c) / L);
+    p.x() = nearest_image(p.x(), L, c);
     if (inside(outer, p)) return true;
   }
   return false;
@@ -341,7 +341,7 @@ void validate_disks(const Reader& r, const Scene& s) {
   for (std::size_t a = 0; a < s.disks.size(); ++a)
     for (std::size_t b = a + 1; b < s.disks.size(); ++b) {
       Eigen::Vector2d d = s.disks[a].center - s.disks[b].center;
-      d.x() -= L * std::round(d.x() / L);
+      d.x() = nearest_image(d.x(), L);
       if (d.norm() < s.disks[a].radius + s.disks[b].radius + h * (1 - 1e-9))
         r.fail("[[disk]] " + std::to_string(a) + " and " + std::to_string(b), "the disks overlap or are closer than one mesh cell h = " + um(h));
     }
@@ -577,7 +577,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
         bool hit = any_node_inside(placed[k], Points{disk.center}, s.length);
         for (const auto& p : placed[k]) {
           Eigen::Vector2d o = p - disk.center;
-          o.x() -= s.length * std::round(o.x() / s.length);
+          o.x() = nearest_image(o.x(), s.length);
           hit = hit || o.norm() < disk.radius + s.mesh_size;
         }
         if (hit)

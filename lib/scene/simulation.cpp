@@ -60,17 +60,17 @@ void Simulation::build_cells() {
 ExplicitMembraneStep& Simulation::membrane_move() { return explicit_step_ ? *explicit_step_ : semi_implicit_step_->membrane_move(); }
 
 // One step of the study's Lie scheme (the study's Section 2.4: its steps 1-4, its eqs. (19)-(21)
-// for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The disks, where a scene
-// has them, are held by step 4 and moved after it; the semi-implicit coupling adds its correction
-// to step 4.
+// for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The fluid's steps are
+// ChannelFlow::step's, with the membranes' step 2 between its steps 1 and 3. The disks, where a
+// scene has them, are held by step 4 and moved after it; the semi-implicit coupling adds its
+// correction to step 4.
 void Simulation::step() {
   if (disk_constraint_) hold_disks_where_they_will_be();
-  quasi_stokes_step();                                   // (1), eq. (19): u^{n+1/3}, p^{n+1}
-  const VelocityField* f_B = membrane_step();            // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B
-  advection_step();                                      // (3), eq. (20): u^{n+2/3}
-  diffusion_step(f_B);                                   // (4), eq. (21): u^{n+1}
-  if (semi_implicit_step_) implicit_spring_correction(); //     semi-implicit: the spring force at r^{n+2}
-  if (disk_constraint_) move_disks();                    //     disks: G^{n+1}, θ^{n+1} from u^{n+1}
+  // (1) eq. (19), (3) eq. (20), (4) eq. (21); between (1) and (3) the membranes' step
+  // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B.
+  last_projection_ = flow_.step([this] { return membrane_step(); });
+  if (semi_implicit_step_) implicit_spring_correction();  // semi-implicit: the spring force at r^{n+2}
+  if (disk_constraint_) move_disks();                     // disks: G^{n+1}, θ^{n+1} from u^{n+1}
 }
 
 void Simulation::hold_disks_where_they_will_be() {
@@ -82,26 +82,20 @@ void Simulation::hold_disks_where_they_will_be() {
   disk_constraint_->set_disks(predicted);
 }
 
-void Simulation::quasi_stokes_step() { last_projection_ = flow_.project(); }
-
 const VelocityField* Simulation::membrane_step() {
-  // Move the nodes with u^{n+1/3} and spread their forces F(r^{n+1}), in either coupling.
-  if (cells_.empty()) return nullptr;
-  const VelocityField* f_B = explicit_step_ ? &explicit_step_->step(cells_, flow_.velocity(), scene_.dt)
-                                            : &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
-  if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
-    const RepulsionCount& c = membrane_move().last_repulsion();
-    if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
+  // Move the nodes with u^{n+1/3} and spread their forces F(r^{n+1}), in either coupling; step 4
+  // adds the disks' contact forces over their area (none without disks; they depend on the disks'
+  // places alone, which step 3 does not change).
+  const VelocityField* f_B = nullptr;
+  if (!cells_.empty()) {
+    f_B = explicit_step_ ? &explicit_step_->step(cells_, flow_.velocity(), scene_.dt)
+                         : &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
+    if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
+      const RepulsionCount& c = membrane_move().last_repulsion();
+      if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
+    }
   }
-  return f_B;
-}
-
-void Simulation::advection_step() { flow_.advect(); }
-
-void Simulation::diffusion_step(const VelocityField* f_B) {
-  // With f_p + f_B, plus the disks' contact forces over their area (none without disks).
-  if (disk_constraint_) f_B = add_contact_forces(f_B);
-  flow_.diffuse(f_B);
+  return disk_constraint_ ? add_contact_forces(f_B) : f_B;
 }
 
 void Simulation::implicit_spring_correction() {
@@ -185,7 +179,7 @@ void Simulation::check_health() {
     for (std::size_t d = 0; d < disks_.size(); ++d)
       for (const auto& r : cells_[k].nodes) {
         Eigen::Vector2d o = r - disks_[d].center;
-        o.x() -= scene_.length * std::round(o.x() / scene_.length);
+        o.x() = nearest_image(o.x(), scene_.length);
         if (o.norm() < disks_[d].radius)
           throw RunFailure(cell + " entered disk " + std::to_string(d) + " (a membrane node " + std::to_string(o.norm() * 1e6) +
                            " um from its centre, radius " + std::to_string(disks_[d].radius * 1e6) + " um)" + when + "; lower [time] dt");
@@ -221,7 +215,7 @@ std::vector<Eigen::Vector2d> Simulation::contact_forces() const {
     F[a].y() += push(d.center.y() - d.radius) - push(scene_.height - d.center.y() - d.radius);  // the walls
     for (std::size_t b = a + 1; b < disks_.size(); ++b) {
       Eigen::Vector2d o = d.center - disks_[b].center;
-      o.x() -= L * std::round(o.x() / L);
+      o.x() = nearest_image(o.x(), L);
       const double dist = o.norm(), f = push(dist - d.radius - disks_[b].radius);
       if (f > 0) {
         F[a] += f * o / dist;
@@ -270,7 +264,7 @@ void Simulation::check_disks(const std::string& when) const {
                        " um)" + when + "; the contact force ([contact]) did not keep it off: raise its strength or lower [time] dt");
     for (std::size_t e = d + 1; e < disks_.size(); ++e) {
       Eigen::Vector2d o = disks_[e].center - k.center;
-      o.x() -= scene_.length * std::round(o.x() / scene_.length);
+      o.x() = nearest_image(o.x(), scene_.length);
       if (o.norm() < k.radius + disks_[e].radius + scene_.mesh_size)
         throw RunFailure("disks " + std::to_string(d) + " and " + std::to_string(e) + " came within one mesh cell of each other" + when +
                          "; the contact force ([contact]) did not keep them apart: raise its strength or lower [time] dt");

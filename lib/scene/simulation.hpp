@@ -114,10 +114,7 @@ class Simulation {
   ExplicitMembraneStep& membrane_move();  // step 2's mover, of either coupling
   // The parts of step(), in its order.
   void hold_disks_where_they_will_be();
-  void quasi_stokes_step();
-  const VelocityField* membrane_step();  // f_B (null: no cells)
-  void advection_step();
-  void diffusion_step(const VelocityField* f_B);
+  const VelocityField* membrane_step();  // step 4's force density: f_B and the disks' contact forces (null: none)
   void implicit_spring_correction();
   void move_disks();
   ProjectionReport last_projection_;

@@ -57,7 +57,7 @@ VtkPolyData membranes_polydata(const std::vector<Cell>& cells, const MembraneMod
     const Points& r = cells[c].nodes;
     Points f;
     membrane_energy(model_of(model, cells[c].kb_scale), r, cells[c].target_area, &f);
-    const double shift = -length * std::floor(area_centroid(r).x() / length);  // whole periods: the centroid in [0, L)
+    const double shift = shift_into_period(area_centroid(r).x(), length);  // whole periods: the centroid in [0, L)
     const std::int64_t first = std::int64_t(poly.xy.size() / 2);
     std::vector<std::int64_t> line;
     const std::size_t n = r.size();
@@ -85,7 +85,7 @@ VtkPolyData disks_polydata(const std::vector<Disk>& disks, double length) {
       radius{"radius [m]", 1, {}, {}}, line_id{"disk_id", 1, {}, {}};
   for (std::size_t d = 0; d < disks.size(); ++d) {
     const Disk& disk = disks[d];
-    const Eigen::Vector2d g(disk.center.x() - length * std::floor(disk.center.x() / length), disk.center.y());
+    const Eigen::Vector2d g(image_in_period(disk.center.x(), length), disk.center.y());
     auto add_point = [&](const Eigen::Vector2d& x) {
       const Eigen::Vector2d arm = x - g;
       poly.xy.push_back(x.x());
