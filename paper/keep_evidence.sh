@@ -48,16 +48,25 @@ for case in "$@"; do
   mkdir -p "$to.tmp"
   cp "$dir/summary.json" "$to.tmp/summary.json"
   awk -F, -v full="$full" '
-    NR == FNR { if (FNR > 1) last = $1; rows = FNR; next }  # first pass: the last sample time, the rows
-    FNR == 1 {
+    NR == FNR { if (/^#/) next; if (rows++) last = $1; next }  # first pass: the last sample time, the rows
+    /^# units: / { units = substr($0, 10); next }             # the units of the columns (older runs have none)
+    /^#/ { next }
+    !header {
+      header = 1
       bodies = 0
       for (k = 1; k <= NF; ++k) if ($k ~ /^cell[0-9]+_x$/) ++bodies
       n = 0
       for (k = 1; k <= NF; ++k)
         if ($k !~ /^cell[0-9]+_/ || (bodies <= 4 && $k ~ /_(x|y|area|perimeter)$/)) keep[++n] = k
+      short = (rows <= 401)
+      if (units != "") {
+        split(units, u, ",")
+        line = "# units: " u[keep[1]]; for (k = 2; k <= n; ++k) line = line "," u[keep[k]]; print line
+      }
+      line = $(keep[1]); for (k = 2; k <= n; ++k) line = line "," $(keep[k]); print line
+      next
     }
-    FNR == 1 { short = (rows <= 401) }
-    FNR == 1 || short || FNR % 10 == 2 || $1 >= last - full {
+    short || ++r % 10 == 1 || $1 >= last - full {
       line = $(keep[1]); for (k = 2; k <= n; ++k) line = line "," $(keep[k]); print line
     }' "$dir/series.csv" "$dir/series.csv" > "$to.tmp/series.csv"
   printf '%s\n%s\n' "$code" "$commit" > "$to.tmp/code_id"

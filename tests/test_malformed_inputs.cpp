@@ -184,7 +184,7 @@ std::vector<Case> corpus() {
       {"unknown option", kGood, run + " --frobnicate 3", 109, {"frobnicate"}},
       {"no subcommand", "", "", 106, {"A subcommand is required"}},
       {"unknown subcommand", "", "walk %s", 106, {"unknown command 'walk'"}},
-      {"threads out of range", kGood, run + " --threads 0", 105, {"--threads"}},
+      {"threads out of range", kGood, run + " --threads 257", 105, {"--threads"}},
       {"bad --set", kGood, run + " --set dt=1e-7", 2, {"expected table.key=value"}},
       {"--set of an unknown key", kGood, run + " --set time.dtt=1e-7", 2, {"did you mean 'dt'"}},
       {"negative checkpoint interval", kGood, run + " --checkpoint-wall -1", 105, {"--checkpoint-wall"}},

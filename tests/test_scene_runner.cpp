@@ -6,6 +6,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -221,8 +222,11 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
   EXPECT_EQ(j["steps"].get<long>(), 20);
   EXPECT_NEAR(j["t_end"].get<double>(), 2e-6, 1e-15);
   std::ifstream csv(out / "series.csv");
-  std::string header, line;
+  std::string units, header, line;
+  std::getline(csv, units);
   std::getline(csv, header);
+  EXPECT_EQ(units.rfind("# units: s,m/s,1,%", 0), 0u) << units;  // SI, one unit per column
+  EXPECT_EQ(std::count(units.begin(), units.end(), ','), std::count(header.begin(), header.end(), ','));
   EXPECT_EQ(header.rfind("t,mean_velocity,reynolds,hematocrit", 0), 0u) << header;
   int samples = 0;
   while (std::getline(csv, line)) ++samples;
@@ -233,7 +237,7 @@ TEST(SceneRunner, WritesSummaryJsonAndSeriesCsvWithTheNamedQuantities) {
 struct Frames {
   std::vector<double> times;                          // s
   std::vector<std::map<int, int>> outlines;           // per frame: outlines of each kind
-  std::vector<std::pair<double, double>> cell_x;      // per frame: the cells' smallest and largest x1 (um)
+  std::vector<std::pair<double, double>> cell_x;      // per frame: the cells' smallest and largest x1 (m)
   std::string header;
 };
 
@@ -264,7 +268,7 @@ Frames read_frames(const std::filesystem::path& path) {
   return fr;
 }
 
-// frames + 1 frames at k end/frames, each with every cell's closed outline in um (kind 0), a
+// frames + 1 frames at k end/frames, each with every cell's closed outline in m (kind 0), a
 // disk's outline and its radius (kind 1), an obstacle's rectangle (kind 2); a cell across
 // x1 = L = 20 um is drawn on both sides.
 TEST(SceneRunner, MovieFramesHoldEveryBodyAtTheirTimes) {
@@ -275,7 +279,7 @@ TEST(SceneRunner, MovieFramesHoldEveryBodyAtTheirTimes) {
                                                     "[[disk]]\ncenter = [10e-6, 5e-6]\nradius = 1e-6\n", "scene.toml");
   run_scene(cell_and_disk, {.out_dir = (dir / "cell").string(), .threads = 1, .progress = false});
   const Frames a = read_frames(dir / "cell" / "frames.dat");
-  EXPECT_NE(a.header.find("(um): 20 10"), std::string::npos) << a.header;
+  EXPECT_NE(a.header.find("(m): 2e-05 1e-05"), std::string::npos) << a.header;
   ASSERT_EQ(a.times.size(), 5u);
   for (int k = 0; k <= 4; ++k) {
     EXPECT_NEAR(a.times[k], k * cell_and_disk.end / 4, 0.5 * cell_and_disk.dt);
@@ -283,7 +287,7 @@ TEST(SceneRunner, MovieFramesHoldEveryBodyAtTheirTimes) {
     EXPECT_EQ(a.outlines[k].at(1), 2) << "the disk's outline and its radius";
   }
   EXPECT_LT(a.cell_x.front().first, 0.0);   // the copy one period back reaches below x1 = 0 ...
-  EXPECT_GT(a.cell_x.front().second, 20.0);  // ... and the cell itself past L
+  EXPECT_GT(a.cell_x.front().second, 20e-6);  // ... and the cell itself past L
   const Scene obstacle = parse_scene(frames4 + "[[obstacle]]\nx = [6e-6, 8e-6]\ny = [0.0, 1e-6]\nwall = \"bottom\"\n", "scene.toml");
   run_scene(obstacle, {.out_dir = (dir / "obstacle").string(), .threads = 1, .progress = false});
   const Frames b = read_frames(dir / "obstacle" / "frames.dat");

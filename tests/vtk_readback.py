@@ -73,7 +73,7 @@ def array(data, name, where="point"):
 
 def series_row(out, t):
     with open(os.path.join(out, "series.csv")) as f:
-        rows = list(csv.DictReader(f))
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))  # (the units line)
     row = min(rows, key=lambda r: abs(float(r["t"]) - t))
     check(abs(float(row["t"]) - t) < 1e-9, f"series.csv has no sample at t = {t}")
     return row

@@ -37,15 +37,12 @@ double window_mean(const std::vector<double>& t, const std::vector<double>& v, d
 }
 
 std::vector<std::pair<std::string, double>> u_readings(const std::string& series, double from, double scale) {
-  std::ifstream in(series);
-  std::string header;
-  std::getline(in, header);
-  const std::string columns = "," + header + ",";
+  const std::vector<std::string> columns = csv_header(series);
   const std::vector<double> t = csv_column(series, "t");
   std::vector<std::pair<std::string, double>> out;
   for (const auto& [id, column] : {std::pair{"p1_mean", "mean_velocity"}, std::pair{"nodal_mean", "nodal_mean_velocity"},
                                    std::pair{"plasma_flux", "plasma_flux_velocity"}, std::pair{"plasma_open", "plasma_open_velocity"}})
-    if (columns.find(std::string(",") + column + ",") != std::string::npos) {
+    if (std::find(columns.begin(), columns.end(), column) != columns.end()) {
       const double v = scale * window_mean(t, csv_column(series, column), from);
       if (std::isfinite(v)) out.emplace_back(id, v);  // an empty window measures nothing
     }

@@ -8,8 +8,8 @@
 reset
 panels = words(movie_files)
 f1 = word(movie_files, 1)
-L = real(system(sprintf("awk 'NR == 1 {print $(NF - 1)}' %s", f1)))
-H = real(system(sprintf("awk 'NR == 1 {print $NF}' %s", f1)))
+L = real(system(sprintf("awk 'NR == 1 {print $(NF - 1) * 1e6}' %s", f1)))  # um, drawn (the file's unit: m)
+H = real(system(sprintf("awk 'NR == 1 {print $NF * 1e6}' %s", f1)))
 frames = 1e9
 do for [p = 1:panels] {
   n = int(system(sprintf("grep -c '^# t =' %s", word(movie_files, p))))
@@ -34,8 +34,8 @@ do for [k = 0:frames - 1] {
   set multiplot layout panels, 1 title sprintf('%s    t = %.2f ms', movie_title, real(word(times_ms, k + 1)))
   do for [p = 1:panels] {
     set title label(p)
-    plot word(movie_files, p) index k using 1:2:(fill($3)) with filledcurves closed fc rgb variable fs solid 1.0 noborder, \
-         '' index k using 1:2:(colour($3)) with lines lw 1.5 lc rgb variable
+    plot word(movie_files, p) index k using ($1 * 1e6):($2 * 1e6):(fill($3)) with filledcurves closed fc rgb variable fs solid 1.0 noborder, \
+         '' index k using ($1 * 1e6):($2 * 1e6):(colour($3)) with lines lw 1.5 lc rgb variable
   }
   unset multiplot
 }

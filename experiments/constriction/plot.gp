@@ -32,7 +32,7 @@ set cblabel '|u| (cm/s)'
 set palette rgbformulae 33,13,10
 do for [k=n-2:n-1] {
   set title system(sprintf("head -1 %s/field_%d.dat | sed 's/;.*//; s/# //'", run, k))
-  plot run.'/field_'.k.'.dat' using 1:2:($3*100) with image, \
+  plot run.'/field_'.k.'.dat' using ($1*1e6):($2*1e6):($3*100) with image, \
        run.'/snapshots.dat' index k using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.2 lc rgb 'white'
 }
 unset multiplot

@@ -1,5 +1,6 @@
 #include "io/csv.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -7,16 +8,32 @@
 
 namespace rbc {
 
+namespace {
+// The header's names of an open numeric CSV file, after its comment lines ('#': the units).
+std::vector<std::string> read_header(std::istream& in) {
+  std::string line, cell;
+  while (std::getline(in, line) && !line.empty() && line[0] == '#') {}
+  std::vector<std::string> names;
+  std::stringstream hs(line);
+  while (std::getline(hs, cell, ',')) names.push_back(cell);
+  return names;
+}
+}  // namespace
+
+std::vector<std::string> csv_header(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open");
+  return read_header(in);
+}
+
 std::vector<double> csv_column(const std::string& path, const std::string& name) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error(path + ": cannot open");
+  const std::vector<std::string> names = read_header(in);
+  const auto at = std::find(names.begin(), names.end(), name);
+  if (at == names.end()) throw std::runtime_error(path + ": no column '" + name + "'");
+  const int col = int(at - names.begin());
   std::string line, cell;
-  std::getline(in, line);
-  std::stringstream hs(line);
-  int col = -1;
-  for (int k = 0; std::getline(hs, cell, ','); ++k)
-    if (cell == name) col = k;
-  if (col < 0) throw std::runtime_error(path + ": no column '" + name + "'");
   std::vector<double> v;
   while (std::getline(in, line)) {
     std::stringstream ss(line);

@@ -1,6 +1,7 @@
 #pragma once
 // Reading back the numeric CSV files a run writes (series.csv, profile.csv): one column by its
-// header name. Throws std::runtime_error naming the file and column.
+// header name, after the comment lines ('#': the units) that come before the header. Throws
+// std::runtime_error naming the file and column.
 //
 // Reading the text tables of reference-data/ (fields separated by commas; a field may be quoted,
 // "a, b", with "" for a quote): every record with the file and line it came from, so that an
@@ -11,6 +12,7 @@
 namespace rbc {
 
 std::vector<double> csv_column(const std::string& path, const std::string& name);
+std::vector<std::string> csv_header(const std::string& path);  // the column names
 
 struct CsvRecord {
   std::vector<std::string> fields;

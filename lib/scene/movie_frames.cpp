@@ -8,8 +8,6 @@ namespace rbc {
 
 namespace {
 
-constexpr double kMicron = 1e6;  // m → um, the frames' unit
-
 // Every line and polygon of poly as an outline of kind `kind`, the id from its cell data; once
 // more one period over (±L) when it reaches past x1 = 0 or L.
 void write_outlines(std::ostream& out, const VtkPolyData& poly, int kind, double length) {
@@ -21,8 +19,8 @@ void write_outlines(std::ostream& out, const VtkPolyData& poly, int kind, double
     for (std::int64_t p : outline) lo = std::min(lo, poly.xy[2 * p]), hi = std::max(hi, poly.xy[2 * p]);
     for (double shift : {0.0, length, -length}) {
       if ((shift > 0 && lo >= 0) || (shift < 0 && hi <= length)) continue;
-      for (std::int64_t p : outline) out << (poly.xy[2 * p] + shift) * kMicron << " " << poly.xy[2 * p + 1] * kMicron << " " << kind << " " << id << "\n";
-      if (closed) out << (poly.xy[2 * outline.front()] + shift) * kMicron << " " << poly.xy[2 * outline.front() + 1] * kMicron << " " << kind << " " << id << "\n";
+      for (std::int64_t p : outline) out << (poly.xy[2 * p] + shift) << " " << poly.xy[2 * p + 1] << " " << kind << " " << id << "\n";
+      if (closed) out << (poly.xy[2 * outline.front()] + shift) << " " << poly.xy[2 * outline.front() + 1] << " " << kind << " " << id << "\n";
       out << "\n";
     }
   };
@@ -33,8 +31,8 @@ void write_outlines(std::ostream& out, const VtkPolyData& poly, int kind, double
 }  // namespace
 
 void write_frames_header(std::ostream& out, const Scene& scene) {
-  out << "# rbcflow movie frames, the channel's length and height (um): " << scene.length * kMicron << " " << scene.height * kMicron << "\n";
-  out << "# x1 (um), x2 (um), kind (0 membrane, 1 disk, 2 obstacle), id; one index per frame\n";
+  out << "# rbcflow movie frames, the channel's length and height (m): " << scene.length << " " << scene.height << "\n";
+  out << "# x1 (m), x2 (m), kind (0 membrane, 1 disk, 2 obstacle), id; one index per frame\n";
 }
 
 void write_frame(std::ostream& out, const Simulation& sim) {

@@ -3,9 +3,9 @@
 // with t ≥ k end/n − Δt/2, appended to <out>/frames.dat for experiments/common/movie.gp.
 //
 // The file, for gnuplot (one index per frame):
-//   # rbcflow movie frames, the channel's length and height (um): <L> <H>   (once, at the top)
+//   # rbcflow movie frames, the channel's length and height (m): <L> <H>   (once, at the top)
 //   # t = <t> s
-//   x1 (um)  x2 (um)  kind  id     one closed outline per block, blocks apart by a blank line;
+//   x1 (m)   x2 (m)   kind  id     one closed outline per block, blocks apart by a blank line;
 //                                  kind 0 a membrane, 1 a disk (its outline, then its radius at θ),
 //                                  2 an obstacle; id the cell's, disk's or obstacle's index
 //   (two blank lines end the frame)

@@ -120,22 +120,22 @@ void print_membrane_header(const Scene& s, const MembraneModel& m) {
                mu * shear * std::pow(m.radius, 3) / (m.kb * l0 / 4));
 }
 
-// The velocity field for gnuplot: x, y (um), |u|, u1, u2 (m/s), one block per row of nodes.
+// The velocity field for gnuplot: x, y (m), |u|, u1, u2 (m/s), one block per row of nodes.
 void write_field(const fs::path& path, const ChannelMesh& m, const VelocityField& u, double t) {
   std::ofstream f(path);
-  f << "# t = " << t << " s; x (um), y (um), |u|, u1, u2 (m/s)\n";
+  f << "# t = " << t << " s; x (m), y (m), |u|, u1, u2 (m/s)\n";
   f.precision(8);
   for (int j = 0; j <= m.ny; ++j) {
     for (int i = 0; i <= m.nx; ++i) {  // i = nx repeats column 0 (periodic), so the map spans [0, L]
       const std::size_t k = m.v(i, j);
-      f << m.x(i) * 1e6 << " " << m.y(j) * 1e6 << " " << std::hypot(u.u1[k], u.u2[k]) << " " << u.u1[k] << " " << u.u2[k] << "\n";
+      f << m.x(i) << " " << m.y(j) << " " << std::hypot(u.u1[k], u.u2[k]) << " " << u.u1[k] << " " << u.u2[k] << "\n";
     }
     f << "\n";
   }
 }
 
 void write_membranes(std::ofstream& f, const std::vector<Cell>& cells, double t) {
-  f << "# t = " << t << " s\n";
+  f << "# t = " << t << " s; x1 (m), x2 (m) of each cell's nodes, the first repeated\n";
   for (std::size_t k = 0; k < cells.size(); ++k) {
     f << "# cell " << k << "\n";
     for (const auto& p : cells[k].nodes) f << p.x() << " " << p.y() << "\n";
@@ -467,14 +467,28 @@ class RunOutputs {
   bool flux_warned_ = false;
 };
 
+// Two header lines: the columns' units ("# units: ", SI; "1" for a pure number), then their names.
 void RunOutputs::write_header() {
-  series_ << "t,mean_velocity,reynolds,hematocrit,max_speed,cg_iterations,coupling_iterations,nodal_mean_velocity";
-  if (!sim_.cells().empty()) series_ << ",plasma_flux_velocity,plasma_open_velocity,wall_gap_lower,wall_gap_upper";
-  if (sim_.obstacles()) series_ << ",wide_velocity,narrow_velocity,wide_flux,narrow_flux,uzawa_iterations,wide_nodal_velocity,narrow_nodal_velocity";
+  std::vector<std::pair<std::string, const char*>> columns = {
+      {"t", "s"}, {"mean_velocity", "m/s"}, {"reynolds", "1"}, {"hematocrit", "%"}, {"max_speed", "m/s"}, {"cg_iterations", "1"},
+      {"coupling_iterations", "1"}, {"nodal_mean_velocity", "m/s"}};
+  if (!sim_.cells().empty())
+    for (const auto& c : {std::pair{"plasma_flux_velocity", "m/s"}, {"plasma_open_velocity", "m/s"}, {"wall_gap_lower", "m"}, {"wall_gap_upper", "m"}})
+      columns.emplace_back(c.first, c.second);
+  if (sim_.obstacles())
+    for (const auto& c : {std::pair{"wide_velocity", "m/s"}, {"narrow_velocity", "m/s"}, {"wide_flux", "m^2/s"}, {"narrow_flux", "m^2/s"},
+                          {"uzawa_iterations", "1"}, {"wide_nodal_velocity", "m/s"}, {"narrow_nodal_velocity", "m/s"}})
+      columns.emplace_back(c.first, c.second);
   for (std::size_t k = 0; k < sim_.cells().size(); ++k)
-    for (const char* q : {"x", "y", "area", "perimeter", "area_drift", "max_strain"}) series_ << ",cell" << k << "_" << q;
+    for (const auto& [q, unit] : {std::pair{"x", "m"}, {"y", "m"}, {"area", "m^2"}, {"perimeter", "m"}, {"area_drift", "1"}, {"max_strain", "1"}})
+      columns.emplace_back("cell" + std::to_string(k) + "_" + q, unit);
   for (std::size_t k = 0; k < sim_.disks().size(); ++k)
-    for (const char* q : {"x", "y", "u", "v", "omega"}) series_ << ",disk" << k << "_" << q;
+    for (const auto& [q, unit] : {std::pair{"x", "m"}, {"y", "m"}, {"u", "m/s"}, {"v", "m/s"}, {"omega", "rad/s"}})
+      columns.emplace_back("disk" + std::to_string(k) + "_" + q, unit);
+  series_ << "# units:";
+  for (std::size_t k = 0; k < columns.size(); ++k) series_ << (k ? "," : " ") << columns[k].second;
+  series_ << "\n";
+  for (std::size_t k = 0; k < columns.size(); ++k) series_ << (k ? "," : "") << columns[k].first;
   series_ << "\n";
 }
 
@@ -552,7 +566,7 @@ void RunOutputs::frames_due() {
 // The x1-averaged velocity profile at the end, for plots against the Poiseuille parabola.
 void write_profile(const fs::path& path, const ChannelFlow& flow) {
   std::ofstream prof(path);
-  prof << "y,u1,u2\n";
+  prof << "# units: m,m/s,m/s\n" << "y,u1,u2\n";
   prof.precision(10);
   const ChannelMesh& m = flow.mesh();
   for (int jy = 0; jy <= m.ny; ++jy) {

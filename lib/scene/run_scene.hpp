@@ -1,17 +1,20 @@
 #pragma once
-// Runs a scene to its end and writes its outputs into the output folder (SI units throughout):
+// Runs a scene to its end and writes its outputs into the output folder, in SI units throughout
+// (lengths in m), each file stating them in its header:
 //   summary.json  steps, t_end, wall_seconds, mean_velocity, reynolds, nodal_mean_velocity, hematocrit, cells, disks, …
-//   series.csv    one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
+//   series.csv    "# units: s,m/s,…" (one unit per column; 1 for a pure number), the names, then
+//                 one row per sample: t, mean_velocity, reynolds, hematocrit, max_speed, cg_iterations,
 //                 coupling_iterations, nodal_mean_velocity (U_n, averaged over the sample interval as
 //                 mean_velocity is), with cells plasma_flux_velocity and plasma_open_velocity (the
 //                 plasma alone at that instant: diagnostics/flow_diagnostics.hpp) and the wall gaps, with
 //                 obstacles the parts' velocities (flux over the open height, and the nodal mean over
 //                 the passage: fictitious_domain/obstacles.hpp), then per cell k: cellk_x, cellk_y,
 //                 cellk_area, cellk_perimeter, cellk_area_drift, cellk_max_strain
-//   snapshots.dat membrane nodes at the [output] snapshots times (gnuplot: one index per time)
+//   snapshots.dat membrane nodes (x1, x2 in m) at the [output] snapshots times (gnuplot: one index per time)
 //   frames.dat    the movie's frames when [output] frames > 0 (scene/movie_frames.hpp)
 //   membranes_final.dat  the membranes at the end
-//   profile.csv   y, x1-averaged u1 and u2 at the end (m, m/s)
+//   profile.csv   "# units: m,m/s,m/s", then y, x1-averaged u1 and u2 at the end
+//   field_<k>.dat the velocity field at snapshot k when [output] fields = true: x, y (m), |u|, u1, u2 (m/s)
 //   vtk/          ParaView files (fluid, membranes, disks, obstacles, run.pvd) when [output] vtk = true:
 //                 scene/vtk_output.hpp
 #include <functional>
