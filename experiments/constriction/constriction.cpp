@@ -10,6 +10,7 @@
 
 #include "common/case_runner.hpp"
 #include "io/csv.hpp"
+#include "mesh/channel_mesh.hpp"
 #include "reference/uncertainty.hpp"
 
 namespace rbc::constriction {
@@ -21,9 +22,9 @@ namespace {
 // Is a centroid x1 (m) in the wide part, at least 10 um downstream of the passage's exit and
 // 5 um upstream of its entry (the cells there have left the constriction behind)?
 bool recovered_region(double x, const Obstacle& block, double L) {
-  const double s = x - L * std::floor(x / L);
+  const double s = image_in_period(x, L);
   const double after = s - block.x[1];  // downstream of the exit (periodic)
-  const double a = after - L * std::floor(after / L);
+  const double a = image_in_period(after, L);
   return a >= 10e-6 && a <= L - (block.x[1] - block.x[0]) - 5e-6;
 }
 
@@ -106,7 +107,7 @@ void convergence_study(const Params& p, Results& res) {
     double s = 0;
     for (std::size_t c = 0; c < r.x.size(); ++c) {
       double dx = r.x[c] - ref->x[c];
-      dx -= L * std::round(dx / L);
+      dx = nearest_image(dx, L);
       s += dx * dx + (r.y[c] - ref->y[c]) * (r.y[c] - ref->y[c]);
     }
     r.error = std::sqrt(s / double(r.x.size()));
@@ -142,7 +143,7 @@ void convergence_study(const Params& p, Results& res) {
             double s = 0;
             for (std::size_t c = 0; c < a.x.size(); ++c) {
               double dx = a.x[c] - b.x[c];
-              dx -= L * std::round(dx / L);
+              dx = nearest_image(dx, L);
               s += dx * dx + (a.y[c] - b.y[c]) * (a.y[c] - b.y[c]);
             }
             return std::sqrt(s);
