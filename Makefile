@@ -81,7 +81,7 @@ fuzz:
 	cmake --build $(BUILD_FUZZ) -j $(JOBS) $(addprefix --target fuzz_,$(FUZZ_KINDS))
 	set -e; for kind in $(FUZZ_KINDS); do \
 	  mkdir -p $(BUILD_FUZZ)/corpus/$$kind tests/fuzz/regressions/$$kind; \
-	  case $$kind in scene_text) seeds="tests/fuzz/seeds paper/method/scenes experiments/channel_flow" ;; *) seeds=tests/fuzz/seeds_$$kind ;; esac; \
+	  case $$kind in scene_text) seeds="tests/fuzz/seeds_$$kind paper/method/scenes experiments/channel_flow" ;; *) seeds=tests/fuzz/seeds_$$kind ;; esac; \
 	  $(BUILD_FUZZ)/bin/fuzz_$$kind -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
 	    -artifact_prefix=$(BUILD_FUZZ)/$$kind- $(BUILD_FUZZ)/corpus/$$kind $$seeds tests/fuzz/regressions/$$kind; \
 	done

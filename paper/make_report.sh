@@ -270,11 +270,12 @@ collect_one() {  # exp
     earlier="$kept/${movie##*/}"
     [ -f "$movie" ] && [ -f "$earlier" ] && python3 experiments/common/gif_same_frames.py "$earlier" "$movie" && mv "$earlier" "$movie"
   done
-  # The evidence's figures (error against run time, the evidence runs, the units) go to the
-  # evidence report, the study's to the reproduction report.
+  # The evidence's figures (the evidence runs, the units) go to the evidence report, the study's
+  # to the reproduction report; error against run time to both (make reproduce: the coarse meshes'
+  # runs; make evidence: every h).
   for fig in "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif; do
     [ -f "$fig" ] || continue
-    case "$(basename "$fig")" in *work_precision*|*_evidence*|*_units*) [ "$mode" = reproduce ] && rm -f "$fig" ;; *) [ "$mode" = evidence ] && [ "$exp" != stability_map ] && rm -f "$fig" ;; esac
+    case "$(basename "$fig")" in *work_precision*) ;; *_evidence*|*_units*) [ "$mode" = reproduce ] && rm -f "$fig" ;; *) [ "$mode" = evidence ] && [ "$exp" != stability_map ] && rm -f "$fig" ;; esac
   done
   # Every experiment of the study's runs has its movie (its plot.gp, from the runs' frames.dat).
   if [ "$mode" = reproduce ] && [[ "$movie_experiments" == *" $exp "* ]] && [ ! -s "$figdir/${exp}_movie.gif" ]; then
@@ -285,9 +286,18 @@ collect_one() {  # exp
   # Each case's run time, for the next run's order and estimates.
   if [ -f "$dir/cases.csv" ]; then
     awk -F, -v e="$exp" 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "wall_seconds") w = i; next} w && $w != "" {print e "," $1 "," $w}' "$dir/cases.csv" > "$dir/case_times.csv"
-  else  # (channel_flow, constriction, stability_map): each job's time, when it ran rather than was read back
-    awk -v e="$exp" 'NR > 1 {split($0, f, "\t"); n = split(f[9], w, " "); if (w[1] == "run_one" && w[2] == e && f[4] > 5) print e "," w[3] "," int(f[4])}' \
-      "$results/joblog_$mode" 2>/dev/null > "$dir/case_times.csv"
+  else  # (channel_flow, constriction, stability_map): each case's own wall time (its summary.json,
+    # resumed sessions included), else (a stability map's point) its job's, when it computed rather
+    # than read back
+    : > "$dir/case_times.csv"
+    for name in $(awk -v e="$exp" '$1 == e {print $2}' "$jobs_file"); do
+      s=""
+      for f in "$dir/$name/summary.json" "$dir/conv/$name/summary.json"; do
+        [ -f "$f" ] && { s=$(sed -n 's/.*"wall_seconds": *\([0-9.e+]*\).*/\1/p' "$f" | head -1); break; }
+      done
+      [ -z "$s" ] && s=$(awk -F'\t' -v c="run_one $exp $name" 'NR > 1 && $9 == c && $4 > 0.3 {t = $4} END {if (t != "") print t}' "$results/joblog_$mode" 2>/dev/null)
+      [ -n "$s" ] && echo "$exp,$name,$s" >> "$dir/case_times.csv"
+    done
   fi
   # The experiment's run time: its cases' own (one thread each; a resumed case's includes the time
   # before its interruption) plus this step's.
@@ -312,8 +322,8 @@ collect_one() {  # exp
       [ -f "$dir/ensemble.md" ] && { echo "### The ensemble of initial arrangements"; echo; cat "$dir/ensemble.md"; echo; }
       [ -f "$dir/re_evidence.md" ] && { echo "### What could explain the Reynolds numbers with the cell"; echo; cat "$dir/re_evidence.md"; echo; }
       [ -f "$dir/units_evidence.md" ] && { echo "### Which reading of the 2D constants"; echo; sed -n '/^## Units/,/^## /p' "experiments/$exp/README.md" | sed '1d;$d'; echo; cat "$dir/units_evidence.md"; echo; }
-      [ -f "$dir/convergence.md" ] && { echo "### Error against run time"; echo; cat "$dir/convergence.md"; echo; }
     fi
+    [ -f "$dir/convergence.md" ] && { echo "### Error against run time"; echo; cat "$dir/convergence.md"; echo; }
     if [ -f "$dir/cases.csv" ]; then
       echo "Every run (wall time per run, one thread each; columns as defined in the experiment's README):"
       echo

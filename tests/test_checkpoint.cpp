@@ -324,7 +324,7 @@ TEST(Checkpoint, AnUnstableRunStopsNamingTheCauseAndKeepsItsLastGoodCheckpoint) 
   EXPECT_NO_THROW(CheckpointReader r((dir / "checkpoint.bin").string()));
   std::ifstream csv(dir / "series.csv");
   std::string header, line;
-  std::getline(csv, header);
+  while (std::getline(csv, header) && header.rfind('#', 0) == 0) {}  // (the units line)
   const auto columns = std::count(header.begin(), header.end(), ',');
   int rows = 0;
   while (std::getline(csv, line)) {

@@ -106,11 +106,12 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
   set xlabel 'wall time of the run (s)'
   set ylabel 'RMS |x - x^{finest}| (um)'
   set key below left Left reverse maxcols 1  # below the axes: the runs reach every corner
+  hs = system(sprintf("awk -F, 'NR > 1 {print $2}' %s | sort -gru | tr '\\n' ' '", conv))  # the table's h, coarse first
   sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
   # The kinds (convergence.csv, no commas in them): the coupling + the pressure's form.
-  plot for [h in "0.625 0.3125"] sel("semi-implicit + incremental p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, incremental p (the experiment''s), h = '.h.' um', \
+  plot for [h in hs] sel("semi-implicit + incremental p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, incremental p (the experiment''s), h = '.h.' um', \
        sel("semi-implicit + study-form p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 4 dt 3 title 'semi-implicit, the study''s form of p, h = 0.3125 um', \
-       for [h in "0.625 0.3125"] sel("explicit + study-form p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'explicit, the study''s form of p (the study''s scheme), h = '.h.' um', \
+       for [h in hs] sel("explicit + study-form p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'explicit, the study''s form of p (the study''s scheme), h = '.h.' um', \
        sel("explicit + incremental p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 6 title 'explicit, incremental p, h = 0.3125 um'
 }
 

@@ -37,8 +37,7 @@ std::vector<std::string> cases() { return {"narrow", "wide"}; }
 Results run(const Params& p) {
   Results res;
   const std::vector<std::string> all = cases();
-  if (!p.only.empty() && std::find(all.begin(), all.end(), p.only) == all.end())
-    throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/channel_flow --list-cases lists them)");
+  case_runner::require_case(all, p.only, "channel_flow");
   for (const std::string& which : all) {
     if (!p.only.empty() && which != p.only) continue;
     // The scene file beside this source holds the channel's parameters, once.

@@ -47,6 +47,12 @@ struct CaseRunOptions {
   std::string label;    // the progress line's name
 };
 
+// make reproduce's error against run time: an experiment's convergence runs on its coarse meshes
+// (h of 0.625 um and up), a few core-minutes against the hours of the finer h that make evidence
+// adds; the reference is then the explicit run at the finest h present and the smallest Δt.
+inline constexpr double kReportConvergenceMinH = 0.6e-6;  // m
+inline bool in_report_convergence(const std::string& role, double h) { return role == "convergence" && h >= kReportConvergenceMinH; }
+
 // The failure of a case that --collect found neither finished nor stopped (still running elsewhere,
 // or not started): left out of the experiment's tables, which say "not run".
 inline const std::string kNotRun = "not run (--collect)";
@@ -87,14 +93,22 @@ struct ConvergenceRow {
 // work-precision figure) and returns the markdown table, after `intro`, sorted by kind, h and Δt.
 std::string convergence_table(std::vector<ConvergenceRow> rows, const std::string& csv_path, const std::string& intro);
 
+// --only NAME where NAME is none of the experiment's cases: an error pointing to its --list-cases.
+inline void require_case(const std::vector<std::string>& names, const std::string& only, const std::string& experiment) {
+  if (!only.empty() && std::find(names.begin(), names.end(), only) == names.end())
+    throw std::invalid_argument("--only " + only + ": no such case (build/bin/" + experiment + " --list-cases lists them)");
+}
+
 // Runs every case of `all` (or only the one named `only`; an unknown name is an error pointing to
 // the experiment's --list-cases) with run_case, after creating out_dir; the results by case name.
 template <class Case, class RunCase>
 auto run_selected(std::vector<Case> all, const std::string& only, const std::string& experiment, const std::string& out_dir,
                   RunCase run_case) {
   if (!only.empty()) {
+    std::vector<std::string> names;
+    for (const Case& c : all) names.push_back(c.name);
+    require_case(names, only, experiment);
     std::erase_if(all, [&](const Case& c) { return c.name != only; });
-    if (all.empty()) throw std::invalid_argument("--only " + only + ": no such case (build/bin/" + experiment + " --list-cases lists them)");
   }
   std::filesystem::create_directories(out_dir);
   std::map<std::string, decltype(run_case(all.front()))> results;

@@ -56,6 +56,7 @@ void convergence_study(const Params& p, Results& res) {
   const std::string toml = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/constriction/constriction.toml";
   for (const ConvergenceJob& j : convergence_jobs())
     for (double dt : j.dts) {
+      if (p.coarse_convergence && j.h < case_runner::kReportConvergenceMinH) continue;
       const std::string name = convergence_name(j.coupling, j.h, dt);
       if (!p.only.empty() && p.only != name) continue;
       char num[160];
@@ -79,11 +80,12 @@ void convergence_study(const Params& p, Results& res) {
       r.h = j.h;
       r.dt = dt;
       r.substeps = sc.advection_substeps;
-      try {
-        const std::optional<RunSummary> done = p.reuse || p.collect ? read_finished_run(out.string(), sc) : std::nullopt;
-        if (!done && p.collect) throw RunFailure(case_runner::kNotRun);
-        const RunSummary s = done ? *done : run_scene(sc, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress,
-                                                           .label = std::string("constriction convergence ") + name, .checkpoint_wall = 0});
+      const case_runner::CaseRun run = case_runner::run_or_reuse(
+          sc, out.string(), {.threads = p.threads, .progress = p.progress, .resume = p.resume, .reuse = p.reuse || p.collect,
+                             .collect = p.collect, .label = "constriction convergence " + name});
+      r.failure = run.failure;
+      if (r.failure.empty()) {
+        const RunSummary& s = run.summary;
         r.steps = s.steps;
         r.wall = s.wall_seconds;
         for (const CellState& c : s.cells) {
@@ -91,8 +93,6 @@ void convergence_study(const Params& p, Results& res) {
           r.y.push_back(c.centroid.y());
         }
         r.u_wide = csv_column((out / "series.csv").string(), "wide_velocity").back();
-      } catch (const RunFailure& e) {
-        r.failure = e.what();
       }
       res.convergence.push_back(r);
     }
@@ -124,7 +124,7 @@ void convergence_study(const Params& p, Results& res) {
      << " ms): RMS over the cells of the centroid distance to the finest run (explicit, h = " << ref->h * 1e6 << " um, Δt = " << ref->dt
      << " s), and the relative difference of U_wide at that time; wall time of each run (" << (p.threads ? std::to_string(p.threads) : "all")
      << " threads, one run after the other). Errors below the reference's own (unknown) error are not resolved: the h-error of "
-        "h = 0.3125 um is not in it.\n\n";
+        "the reference's h is not in it.\n\n";
   md << "| coupling | h (um) | Δt (s) | Q | steps | wall (s) | U_wide (cm/s) | centroid error (um) | U_wide error | observed order in Δt |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string coupling : {"semi-implicit", "explicit"})
@@ -183,16 +183,15 @@ std::vector<std::string> cases(const Params& p) {
   std::vector<std::string> names{kMainRun};
   if (!p.quick && p.convergence)
     for (const ConvergenceJob& j : convergence_jobs())
-      for (double dt : j.dts) names.push_back(convergence_name(j.coupling, j.h, dt));
+      for (double dt : j.dts)
+        if (!p.coarse_convergence || j.h >= case_runner::kReportConvergenceMinH) names.push_back(convergence_name(j.coupling, j.h, dt));
   return names;
 }
 
 Results run(const Params& p) {
   Results res;
   if (!p.only.empty()) {  // one case alone, no comparison
-    const std::vector<std::string> all = cases(p);
-    if (std::find(all.begin(), all.end(), p.only) == all.end())
-      throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/constriction --list-cases lists them)");
+    case_runner::require_case(cases(p), p.only, "constriction");
     if (p.only != kMainRun) {
       convergence_study(p, res);
       return res;

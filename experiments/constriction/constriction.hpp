@@ -45,6 +45,7 @@ struct Params {
   // Error against run time (full runs only): short runs of the same scene over h and Δt with
   // both couplings, in out_dir/conv/<case>; compared at kConvTime with the finest explicit run.
   bool convergence = true;
+  bool coarse_convergence = false;  // the convergence study on the coarse meshes alone (make reproduce)
   std::string only;  // run only this case (a name of cases()), no comparison
 };
 

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   app.add_flag("--no-convergence", no_convergence, "skip the convergence study (short runs over h and dt, both couplings)");
   bool study_only = false;
   app.add_flag("--study-only", study_only,
-               "the study's run only, as --no-convergence: u_num's Δt part as recorded in reference-data/uncertainty/ (make reproduce)");
+               "the study's run and the convergence study on the coarse meshes (h >= 0.625 um): u_num's Δt part as recorded in reference-data/uncertainty/ (make reproduce)");
   app.add_flag("--reuse", p.reuse, "read the finished runs in the output folder instead of running them again");
   bool list = false;
   app.add_flag("--list-cases", list, "print the cases' names (the experiment's run, then the convergence study's), one per line (for GNU parallel)");
@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
-  p.convergence = !no_convergence && !study_only;
+  p.convergence = !no_convergence;
+  p.coarse_convergence = study_only;
   // An explicit --out wins (make reproduce QUICK=1 passes results/constriction and draws from it).
   if (p.quick) p.out_dir = "results/constriction_quick";
   if (!out.empty()) p.out_dir = out;

@@ -19,7 +19,7 @@ set terminal pngcairo size 1100, 260*n font ',10'
 set output figdir.'/constriction_membranes.png'
 set multiplot layout n,1 title 'Membranes (s* = 0.481) at the snapshot times'
 do for [k=0:n-1] {
-  set title system(sprintf("awk 'BEGIN{b=0} /^# t =/{if(b==%d){print $0; exit} b++}' %s/snapshots.dat", k, run))
+  set title system(sprintf("awk 'BEGIN{b=0} /^# t =/{if(b==%d){sub(/;.*/, \"\"); sub(/^# /, \"\"); print; exit} b++}' %s/snapshots.dat", k, run))
   plot run.'/snapshots.dat' index k using (wrap($1*1e6)):($2*1e6) with points pt 7 ps 0.25 lc rgb 'red'
 }
 unset multiplot
@@ -64,9 +64,10 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set xlabel 'wall time of the run (s)'
   set ylabel 'RMS |x_c - x_c^{finest}| (um)'
   set key bottom left
+  hs = system(sprintf("awk -F, 'NR > 1 {print $2}' %s | sort -gru | tr '\\n' ' '", conv))  # the table's h, coarse first
   sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $10==\"\")' %s", c, h, conv)
-  plot for [h in "1.25 0.625 0.3125"] sel("semi-implicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
-       for [h in "0.625 0.3125"] sel("explicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um'
+  plot for [h in hs] sel("semi-implicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
+       for [h in hs] sel("explicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um'
 }
 
 # The movie: the cells through the passage (experiments/common/movie.gp).

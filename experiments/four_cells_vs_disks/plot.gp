@@ -82,10 +82,11 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
   set xlabel 'wall time of the run (s)'
   set ylabel 'RMS |x_2 - x_2^{finest}| (um)'
   set key bottom left inside
+  hs = system(sprintf("awk -F, 'NR > 1 {print $2}' %s | sort -gru | tr '\\n' ' '", conv))  # the table's h, coarse first
   sel(k, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $8==\"\")' %s", k, h, conv)
-  plot for [h in "0.625 0.3125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
-       for [h in "0.625 0.3125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
-       for [h in "0.625 0.3125"] sel("disks", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
+  plot for [h in hs] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
+       for [h in hs] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
+       for [h in hs] sel("disks", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um'
 }
 
 # The movie: the four cells (s* = 1, k_b) and the four disks side by side, each its reported run.

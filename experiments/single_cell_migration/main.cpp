@@ -32,7 +32,8 @@ int main(int argc, char** argv) {
   app.add_flag("--collect", collect, "read back the cases finished in the output folder and run none (a sweep still going: the table so far)");
   bool study_only = false;
   app.add_flag("--study-only", study_only,
-               "the study's runs only (narrow and wide channels), no evidence runs: u_num as recorded in reference-data/uncertainty/ (make reproduce)");
+               "the study's runs (narrow and wide channels) and the error against run time, no other evidence runs: u_num as recorded in "
+               "reference-data/uncertainty/ (make reproduce)");
   bool resume = false;
   app.add_flag("--resume", resume, "continue cases stopped by SIGINT/SIGTERM from the checkpoint in their folder");
   bool record = false;

@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cell_free_layer/cell_free_layer.hpp"
+#include "common/case_runner.hpp"
 #include "four_cells_vs_disks/four_cells_vs_disks.hpp"
 #include "scene/simulation.hpp"
 
@@ -376,9 +377,7 @@ Results run(const Params& p) {
   namespace fs = std::filesystem;
   const fs::path out(p.out_dir), points = out / "points";
   fs::create_directories(points);
-  const std::vector<std::string> all = cases(p);
-  if (!p.only.empty() && std::find(all.begin(), all.end(), p.only) == all.end())
-    throw std::invalid_argument("--only " + p.only + ": no such case (build/bin/stability_map --list-cases lists them)");
+  case_runner::require_case(cases(p), p.only, "stability_map");
   const bool read_back = p.reuse || p.resume;
   Results res;
   for (const PointCase& c : point_cases(p)) {

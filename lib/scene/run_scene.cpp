@@ -245,14 +245,14 @@ struct CheckpointHeader {
 // Reads the header; a checkpoint written by other code is refused (its state need not be this
 // code's: a run must not continue with other arithmetic than it started with) unless any_code
 // (rbcflow resume --any-code), which names both codes on stderr.
-CheckpointHeader read_header(CheckpointReader& r, bool any_code) {
+CheckpointHeader read_header(CheckpointReader& r, bool any_code, bool announce = true) {
   CheckpointHeader h;
   h.code = r.get_string();
   if (h.code != code_id()) {
     if (!any_code)
       throw CheckpointError(r.path() + ": written by code " + h.code + ", this is code " + code_id() +
                             "; rerun the scene from the start, resume with the build of that code, or accept it with --any-code");
-    std::fprintf(stderr, "rbcflow: warning: %s was written by code %s, this is code %s: continued as asked (--any-code); the run "
+    if (announce) std::fprintf(stderr, "rbcflow: warning: %s was written by code %s, this is code %s: continued as asked (--any-code); the run "
                  "mixes the arithmetic of two codes\n", r.path().c_str(), h.code.c_str(), code_id());
   }
   h.source = r.get_string();
@@ -263,9 +263,9 @@ CheckpointHeader read_header(CheckpointReader& r, bool any_code) {
 
 // Tries each checkpoint of dir, newest first, with use(reader); the first that use() accepts
 // (returns without CheckpointError) wins. Where a newer one was refused the reason is printed
-// before the older one is used; where none is usable, CheckpointError with every reason.
+// (announce) before the older one is used; where none is usable, CheckpointError with every reason.
 template <class Use>
-auto with_newest_usable_checkpoint(const fs::path& dir, Use use) {
+auto with_newest_usable_checkpoint(const fs::path& dir, Use use, bool announce = true) {
   const fs::path newest = dir / "checkpoint.bin", previous = dir / "checkpoint.bin.prev";
   if (!has_checkpoint(dir.string())) throw CheckpointError(dir.string() + ": no checkpoint to resume from (checkpoint.bin)");
   std::string why;
@@ -277,7 +277,7 @@ auto with_newest_usable_checkpoint(const fs::path& dir, Use use) {
     try {
       CheckpointReader r(p.string());
       auto result = use(r);
-      if (p == previous) std::fprintf(stderr, "rbcflow: warning: %s; resuming from %s\n", why.c_str(), p.c_str());
+      if (p == previous && announce) std::fprintf(stderr, "rbcflow: warning: %s; resuming from %s\n", why.c_str(), p.c_str());
       return result;
     } catch (const CheckpointError& e) {
       why += (why.empty() ? "" : "; ") + std::string(e.what());
@@ -314,8 +314,9 @@ bool has_checkpoint(const std::string& dir) {
 }
 
 Scene checkpoint_scene(const std::string& dir, bool any_code) {
+  // (Quietly: the resume that follows reads the same checkpoint and says what it takes.)
   return with_newest_usable_checkpoint(dir, [&](CheckpointReader& r) {
-    const CheckpointHeader h = read_header(r, any_code);
+    const CheckpointHeader h = read_header(r, any_code, false);
     try {
       Scene s = parse_scene(h.scene_toml, r.path() + " (its scene)");
       s.source = h.source;
@@ -323,7 +324,7 @@ Scene checkpoint_scene(const std::string& dir, bool any_code) {
     } catch (const SceneError& e) {
       throw CheckpointError(r.path() + ": the scene stored in it is not valid: " + e.what());
     }
-  });
+  }, false);
 }
 
 void load_checkpoint(const std::string& dir, Simulation& sim) {
@@ -343,7 +344,16 @@ namespace {
 RunState resume_run(const fs::path& out, const Scene& scene, Simulation& sim, bool progress, bool any_code) {
   const RunState resumed = with_newest_usable_checkpoint(out, [&](CheckpointReader& r) {
     const CheckpointHeader h = read_header(r, any_code);
-    const std::vector<std::string> a = scene_lines(h.scene_toml), b = scene_lines(scene_to_toml(scene));
+    // Other code may write the same scene in other words (a key added, reordered): read back first.
+    std::string stored = h.scene_toml;
+    if (any_code && h.code != code_id()) {
+      try {
+        stored = scene_to_toml(parse_scene(h.scene_toml, r.path() + " (its scene)"));
+      } catch (const SceneError& e) {
+        throw CheckpointError(r.path() + ": the scene stored in it is not valid for this code: " + e.what());
+      }
+    }
+    const std::vector<std::string> a = scene_lines(stored), b = scene_lines(scene_to_toml(scene));
     if (a != b) {
       std::size_t k = 0;
       while (k < a.size() && k < b.size() && a[k] == b[k]) ++k;

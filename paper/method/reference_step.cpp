@@ -109,9 +109,10 @@ ReferenceOperators::ReferenceOperators(const Scene& scene)
       membrane(scene.membrane_model()) {
   // The scenes the study's four steps cover as written below; the rest add to step 4 (obstacles,
   // disks), after it (the semi-implicit correction) or to step 2's force (the repulsion).
-  if (!scene.obstacles.empty() || !scene.disks.empty() || scene.coupling != "explicit" || scene.repulsion_strength > 0)
-    throw std::invalid_argument(scene.source + ": the reference step covers cells with the explicit coupling only "
-                                "(no [[obstacle]], no [[disk]], no [repulsion])");
+  if (!scene.obstacles.empty() || !scene.disks.empty() || scene.coupling != "explicit" || scene.repulsion_strength > 0 ||
+      scene.pressure_preconditioner != "schur")
+    throw std::invalid_argument(scene.source + ": the reference step covers cells with the explicit coupling and the exact pressure "
+                                "solve only (no [[obstacle]], no [[disk]], no [repulsion], [solver] pressure_preconditioner = \"schur\")");
 }
 
 // The start (the study's eqs. (3)-(4), u(0) = 0, and its Remark 2.1): the fluid at rest, the walls at

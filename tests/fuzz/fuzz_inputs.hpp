@@ -72,6 +72,9 @@ inline void checkpoint(const std::uint8_t* data, std::size_t size) {
     return d;
   }();
   static Simulation sim(parse_scene(kSmallScene, "fuzz.toml"));
+  // This input alone in the folder (no earlier input's file kept as .prev to fall back to).
+  std::filesystem::remove(dir / "checkpoint.bin");
+  std::filesystem::remove(dir / "checkpoint.bin.prev");
   CheckpointWriter w;
   w.put(std::string(code_id()));
   w.put_raw(data, size);
