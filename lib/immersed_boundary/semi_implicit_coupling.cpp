@@ -75,7 +75,11 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   auto spread = [&](int c, double* f1, double* f2) {
     spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
   };
-  auto [f1, f2] = products().force_rhs();
+  // (Named pointers, not a structured binding: the OpenMP regions below capture them, which clang
+  // before version 16 refuses for bindings.)
+  const std::pair<double*, double*> rhs = products().force_rhs();
+  double* const f1 = rhs.first;
+  double* const f2 = rhs.second;
   if (!slab_cells_.empty()) {
     // Cells in x1 slabs (see implicit_correction): the even slabs' cells touch disjoint mesh
     // nodes, so their threads add into the same arrays; then the odd slabs'. Every node sums its
