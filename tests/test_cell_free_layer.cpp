@@ -106,12 +106,18 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
 }
 
 // make reproduce runs --study-only: the runs the rows report (Δt halved), none of the evidence.
-TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRuns) {
+TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRunsAndTheCoarseConvergenceRuns) {
   Params p;
   p.study_only = true;
   std::vector<std::string> names;
-  int read_only = 0;
+  int read_only = 0, coarse_convergence = 0;
   for (const Case& c : cases(p)) {
+    if (c.role == "convergence") {  // the error against run time on the coarse mesh (case_runner.hpp)
+      EXPECT_GE(c.h, case_runner::kReportConvergenceMinH) << c.name;
+      EXPECT_FALSE(c.read_only) << c.name;
+      ++coarse_convergence;
+      continue;
+    }
     if (!c.read_only) names.push_back(c.name);
     // The rows' other arrangements at their Δt and all of them at 3 us (the Δt pairs): read back
     // where finished or kept, never run.
@@ -122,6 +128,7 @@ TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRuns) {
     }
   }
   EXPECT_EQ(names, (std::vector<std::string>{"n100_dt1.5us", "n50_dt1.5us"}));
+  EXPECT_EQ(coarse_convergence, 6);  // explicit 2 and semi-implicit (incremental p) 4, at h = 0.625 um
   EXPECT_EQ(read_only, 2 * (2 * int(p.seeds.size()) + 1));
   EXPECT_GE(p.seeds.size() + 1, kEnsembleMinimum);  // seed 1 and the others: a decidable ensemble
   Params quick;

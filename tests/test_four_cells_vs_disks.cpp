@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "common/case_runner.hpp"
 #include "four_cells_vs_disks/four_cells_vs_disks.hpp"
 #include "io/csv.hpp"
 
@@ -24,15 +25,22 @@ using namespace four_cells_vs_disks;
 // make reproduce runs --study-only: each case's reported Δt run, the one its rows and figures read;
 // the level below it (the k_b cells at 0.75 us, the 1000 k_b ones at 0.375 us) is make evidence's
 // (the quick parameters keep their cases).
-TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRun) {
+TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseConvergenceRuns) {
   Params p;
   p.study_only = true;
   std::set<std::string> names;
+  int coarse_convergence = 0;
   for (const Case& c : cases(p)) {
+    if (c.role == "convergence") {  // the error against run time on the coarse mesh (case_runner.hpp)
+      EXPECT_GE(c.h, case_runner::kReportConvergenceMinH) << c.name;
+      ++coarse_convergence;
+      continue;
+    }
     names.insert(c.name);
     EXPECT_TRUE(c.reported) << c.name;
   }
   EXPECT_EQ(names, (std::set<std::string>{"kb1_dt1.5us", "kb10_dt1.5us", "kb100_dt1.5us", "kb1000_dt0.75us", "s07_dt1.5us", "disks_dt1.5us"}));
+  EXPECT_EQ(coarse_convergence, 10);  // cells explicit 2, semi-implicit 4, disks 4, at h = 0.625 um
   Params evidence;
   std::set<std::string> finer;
   for (const Case& c : cases(evidence))
