@@ -149,6 +149,7 @@ CheckpointReader::CheckpointReader(const std::string& path) : path_(path) {
 
 void CheckpointReader::raw(void* p, std::size_t n) {
   if (n > end_ - pos_) throw CheckpointError(path_ + ": ends too early (written by another version?)");
+  if (n == 0) return;  // (an empty record: its vector's data() may be null, which memcpy must not get)
   std::memcpy(p, bytes_.data() + pos_, n);
   pos_ += n;
 }

@@ -65,13 +65,21 @@ inline void set_values(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+// The small run the checkpoints are loaded into, built once (its shape preparation takes seconds
+// under the sanitizers: prepare() builds it before the first input, outside libFuzzer's timeout).
+inline Simulation& small_run() {
+  static Simulation sim(parse_scene(kSmallScene, "fuzz.toml"));
+  return sim;
+}
+inline void prepare() { (void)small_run(); }
+
 inline void checkpoint(const std::uint8_t* data, std::size_t size) {
   static const std::filesystem::path dir = [] {
     const auto d = std::filesystem::temp_directory_path() / ("rbcflow_fuzz_checkpoint." + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d;
   }();
-  static Simulation sim(parse_scene(kSmallScene, "fuzz.toml"));
+  Simulation& sim = small_run();
   // This input alone in the folder (no earlier input's file kept as .prev to fall back to).
   std::filesystem::remove(dir / "checkpoint.bin");
   std::filesystem::remove(dir / "checkpoint.bin.prev");

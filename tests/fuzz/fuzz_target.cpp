@@ -5,6 +5,11 @@
 
 #include "fuzz_inputs.hpp"
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  rbc::fuzz::prepare();
+  return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   rbc::fuzz::RBCFLOW_FUZZ_KIND(data, size);
   return 0;
