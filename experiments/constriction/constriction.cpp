@@ -102,15 +102,14 @@ void convergence_study(const Params& p, Results& res) {
     if (r.coupling == "explicit" && r.failure.empty() && (!ref || r.h < ref->h || (r.h == ref->h && r.dt < ref->dt))) ref = &r;
   if (!ref) return;
   const double L = 120e-6;
+  auto centroids = [](const ConvergenceRun& r) {
+    std::vector<Eigen::Vector2d> c;
+    for (std::size_t k = 0; k < r.x.size(); ++k) c.emplace_back(r.x[k], r.y[k]);
+    return c;
+  };
   for (auto& r : res.convergence) {
     if (!r.failure.empty()) continue;
-    double s = 0;
-    for (std::size_t c = 0; c < r.x.size(); ++c) {
-      double dx = r.x[c] - ref->x[c];
-      dx = nearest_image(dx, L);
-      s += dx * dx + (r.y[c] - ref->y[c]) * (r.y[c] - ref->y[c]);
-    }
-    r.error = std::sqrt(s / double(r.x.size()));
+    r.error = case_runner::centroid_error(centroids(r), centroids(*ref), L).first;  // RMS over the cells
     r.u_error = std::abs(r.u_wide - ref->u_wide) / ref->u_wide;
   }
   std::ofstream csv(fs::path(p.out_dir) / "convergence.csv");
