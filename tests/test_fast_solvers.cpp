@@ -8,7 +8,7 @@
 #include <omp.h>
 
 #include "fast_solvers/periodic_banded_solver.hpp"
-#include "immersed_boundary/coupling_products.hpp"
+#include "semi_implicit/coupling_products.hpp"
 #include "fem/divergence_stencil.hpp"
 #include "fem/p1_operators.hpp"
 #include "fluid/diffusion.hpp"

@@ -12,7 +12,7 @@
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
-#include "immersed_boundary/coupling_products.hpp"
+#include "semi_implicit/coupling_products.hpp"
 
 namespace rbc {
 namespace {

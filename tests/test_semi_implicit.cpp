@@ -18,10 +18,10 @@
 #include "diagnostics/cell_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
 #include "io/checkpoint.hpp"
-#include "immersed_boundary/bf16_lu_solve.hpp"
+#include "semi_implicit/detail/bf16_lu_solve.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
-#include "immersed_boundary/phase_average_kernel.hpp"
-#include "immersed_boundary/step_mobility.hpp"
+#include "semi_implicit/detail/phase_average_kernel.hpp"
+#include "semi_implicit/step_mobility.hpp"
 #include "membrane/membrane_stiffness.hpp"
 #include "scene/simulation.hpp"
 

@@ -19,7 +19,7 @@
 //
 // Real is the precision of the transforms and substitutions: double (every solve of the fluid
 // steps), or float for solves that feed an iteration with a far looser tolerance (the semi-
-// implicit coupling's GMRES products, immersed_boundary/coupling_products.hpp: relative error
+// implicit coupling's GMRES products, semi_implicit/coupling_products.hpp: relative error
 // ≈ 1e-7 against GMRES's 1e-4). Right-hand sides and solutions are double either way; the
 // factors are computed in double and rounded once.
 #include <type_traits>

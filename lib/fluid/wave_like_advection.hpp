@@ -27,9 +27,6 @@ class WaveLikeAdvection {
   // For both components c: minv_a[c] = M⁻¹ A f[c], and (if given) minv_c[c] = −M⁻¹ C f[c],
   // on the interior nodes.
   void apply(std::vector<double>* const f[2], std::vector<double>* minv_a, std::vector<double>* minv_c);
-  // Node row j of apply's gather from the triangle rows j (glj, guj) and j − 1 (gld, gud).
-  void gather_row(int nx, double inv_h, int j, const double* glj, const double* guj, const double* gld, const double* gud,
-                  double* A, double* C) const;
   ChannelMesh m_;
   std::vector<double> vl_[2], vu_[2];  // V at the centroids of the lower/upper triangles of each square
   std::vector<double> prev_[2], cur_[2], next_[2], acc_[2], vel_[2];

@@ -11,17 +11,21 @@
 #include <vector>
 
 #include "immersed_boundary/immersed_boundary.hpp"
+#include "immersed_boundary/membrane_coupling.hpp"
 #include "membrane/cell.hpp"
 #include "membrane/membrane_repulsion.hpp"
 #include "mesh/channel_mesh.hpp"
 
 namespace rbc {
 
-class ExplicitMembraneStep {
+class ExplicitMembraneStep : public MembraneCoupling {
  public:
   ExplicitMembraneStep(const ChannelMesh& mesh, const MembraneModel& model);
   // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.
-  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt);
+  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) override;
+  // The study's coupling adds nothing after step 4.
+  const VelocityField* implicit_correction(const std::vector<Cell>&, const VelocityField&) override { return nullptr; }
+  ExplicitMembraneStep& membrane_move() override { return *this; }
   const VelocityField& force() const { return force_; }
   // The repulsion between membranes and from the walls (off unless set), channel L x H.
   void set_repulsion(const MembraneRepulsion& r, double L, double H) {

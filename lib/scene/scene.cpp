@@ -11,7 +11,7 @@
 
 #include <toml++/toml.h>
 
-#include "immersed_boundary/step_mobility.hpp"
+#include "semi_implicit/step_mobility.hpp"
 #include "membrane/cell.hpp"
 #include "membrane/membrane_crossing.hpp"
 #include "membrane/shape_preparation.hpp"
@@ -104,7 +104,7 @@ class Reader {
         if (std::find(it->keys.begin(), it->keys.end(), sub) == it->keys.end()) {
           if (key == "solver" && (sub == "coupling_start" || sub == "coupling_blocks" || sub == "coupling_solves"))
             fail("[solver] " + sub, "is no longer a scene key: how the semi-implicit coupling's system is solved is fixed by the "
-                                    "library (CouplingOptions, lib/immersed_boundary/semi_implicit_coupling.hpp); remove the line");
+                                    "library (CouplingOptions, lib/semi_implicit/semi_implicit_coupling.hpp); remove the line");
           fail("[" + key + "] " + sub, "unknown key" + suggestion(sub, it->keys));
         }
       }
@@ -347,43 +347,12 @@ void validate_disks(const Reader& r, const Scene& s) {
     }
 }
 
-}  // namespace
+// parse_scene's parts, in its order: the TOML text with the overrides, the keys of each table
+// (defaults and allowed ranges in the Reader's calls), the bodies' arrays, then the checks that
+// need the whole scene.
+constexpr double big = 1e300;  // no upper bound beyond the number's own
 
-double Scene::fluid_area() const {
-  double a = length * height;
-  for (const Obstacle& o : obstacles) a -= (o.x[1] - o.x[0]) * (o.y[1] - o.y[0]);
-  return a;
-}
-
-double Scene::driving_force() const {
-  return body_force ? *body_force : body_force_from_reynolds(*reynolds0, fluid, height);
-}
-
-int Scene::advection_substeps_for(double dt) const {
-  ChannelFlowParams p = flow_params();
-  p.advection_substeps = 1;
-  return std::max(1, int(std::ceil(dt / advective_dt_bound(p) * (1 - 1e-12))));
-}
-
-ChannelFlowParams Scene::flow_params() const {
-  ChannelFlowParams p;
-  p.fluid = fluid;
-  p.length = length;
-  p.height = height;
-  p.mesh_size = mesh_size;
-  p.body_force = driving_force();
-  p.wall_velocity[0] = wall_velocity[0];
-  p.wall_velocity[1] = wall_velocity[1];
-  p.dt = dt;
-  p.advection_substeps = advection_substeps;
-  p.preconditioner = parse_pressure_preconditioner(pressure_preconditioner);
-  p.cg_tolerance = cg_tolerance;
-  p.cg_max_iterations = cg_max_iterations;
-  p.incremental_pressure = projection == "incremental";
-  return p;
-}
-
-Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+toml::table read_toml(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
   if (text.find('\0') != std::string::npos) throw SceneError(source + ": not a TOML scene file (it holds binary data)");
   toml::table root;
   try {
@@ -394,12 +363,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
     throw SceneError(s.str());
   }
   for (const auto& o : overrides) apply_override(root, o, source);
-  const Reader r(root, source);
-  r.check_structure();
-  constexpr double big = 1e300;
+  return root;
+}
 
-  Scene s;
-  s.source = source;
+// [fluid], [channel], [time]
+void read_flow(const Reader& r, Scene& s) {
   s.fluid.density = r.number("fluid", "density", "kg/m^3", 0, big, true, s.fluid.density);
   s.fluid.viscosity = r.number("fluid", "viscosity", "Pa s", 0, big, true, s.fluid.viscosity);
   s.length = r.number("channel", "length", "m", 0, big, true);
@@ -424,8 +392,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.coupling = r.word("time", "coupling", {"explicit", "semi-implicit"}, s.coupling);
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   // The pressure's form: the study's by default, the incremental one with obstacles (below).
-  const bool projection_given = r.has("time", "projection");
   s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
+}
+
+// [solver]
+void read_solver(const Reader& r, Scene& s) {
   s.pressure_preconditioner = r.word("solver", "pressure_preconditioner", {"schur", "laplacian"}, s.pressure_preconditioner);
   s.cg_tolerance = r.number("solver", "cg_tolerance", "(relative residual)", 1e-16, 1e-2, false, s.cg_tolerance);
   s.cg_max_iterations = int(r.integer("solver", "cg_max_iterations", 1, 100000, s.cg_max_iterations));
@@ -433,6 +404,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
   s.disk_tolerance = r.number("solver", "disk_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.disk_tolerance);
+}
+
+// [contact] (the disks') and [repulsion] (the membranes')
+void read_contacts(const Reader& r, Scene& s) {
   // The disks' contact force: range 2h unless given (the run stops at a gap below h).
   s.contact_range = r.number("contact", "range", "m", 0, big, true, 2 * s.mesh_size);
   s.contact_strength = r.number("contact", "strength", "N/m", 0, big, false, s.contact_strength);
@@ -442,6 +417,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   // The membranes' repulsion: range h unless given, within about a mesh cell; off by default.
   s.repulsion_range = r.number("repulsion", "range", "m", 0, 3 * s.mesh_size, true, s.mesh_size);
   s.repulsion_strength = r.number("repulsion", "strength", "N/m", 0, 1.0, false, 0.0);
+}
+
+// [output]
+void read_output(const Reader& r, Scene& s) {
   s.output_every = r.number("output", "every", "s", 0, big, true, s.sample_interval());  // default: Scene::sample_interval
   s.vtk = r.boolean("output", "vtk", false);
   if (s.output_every < s.dt) r.fail("[output] every", "must be at least one time step (dt)");
@@ -452,7 +431,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.snapshots = r.list("output", "snapshots", "s");
   s.field_snapshots = r.boolean("output", "fields", false);
   s.frames = int(r.integer("output", "frames", 0, kMaxMovieFrames, 0));
+}
 
+// [membrane]
+void read_membrane(const Reader& r, Scene& s) {
   // Preparing a shape costs ≈ N³ (≈ 20 s at N = 300): larger N would look like a hang.
   s.membrane_nodes = int(r.integer("membrane", "nodes", 8, kMaxMembraneNodes, s.membrane_nodes));
   s.membrane_radius = r.number("membrane", "radius", "m", 0, big, true, s.membrane_radius);
@@ -461,6 +443,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   s.membrane_constants.ks = r.number("membrane", "ks", "(study's units, N m)", 0, big, false, s.membrane_constants.ks);
   s.membrane_constants.units = r.word("membrane", "units", {"si", "cgs"}, s.membrane_constants.units);
   s.area_penalty = r.boolean("membrane", "area_penalty", s.area_penalty);
+}
+
+// [[cell]], [[obstacle]], [[disk]]
+void read_bodies(const toml::table& root, const Reader& r, Scene& s) {
   if (const toml::node* cells = root.get("cell")) {
     int k = 0;
     for (auto&& c : *cells->as_array()) {
@@ -500,7 +486,7 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
 
   // With obstacles the study's pressure form loses flux between the wide and the narrow parts at
   // practical Δt (paper/method/05_fictitious_domain.md): the incremental form is their default.
-  if (!projection_given && !s.obstacles.empty()) s.projection = "incremental";
+  if (!r.has("time", "projection") && !s.obstacles.empty()) s.projection = "incremental";
 
   if (const toml::node* disks = root.get("disk")) {
     int k = 0;
@@ -517,8 +503,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       r.enter(nullptr, "");
     }
   }
+}
 
-  // The mesh must fit the channel (T_2h must exist): ChannelMesh says which side does not fit.
+// The mesh must fit the channel and stay within the size this version accepts.
+void validate_mesh(const Reader& r, const Scene& s) {
+  // T_2h must exist: ChannelMesh says which side does not fit.
   try {
     const ChannelMesh m = ChannelMesh::make(s.length, s.height, s.mesh_size);
     if (double(m.nx) * (m.ny + 1) > kMaxVelocityNodes) {
@@ -530,9 +519,11 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
   } catch (const std::invalid_argument& e) {
     r.fail("[channel] mesh_size", e.what());
   }
-  validate_obstacles(r, s);
-  validate_disks(r, s);
-  // Cells: inside the channel and not overlapping (each prepared as the run will prepare it).
+}
+
+// Cells: inside the channel, not overlapping each other, an obstacle or a disk.
+void validate_cells(const Reader& r, const Scene& s) {
+  // Each prepared as the run will prepare it.
   if (!s.cells.empty()) {
     const MembraneModel mm = s.membrane_model();
     std::map<std::pair<double, double>, PreparedShape> shapes;  // by (s*, k_b scale): k_b/k_l enters the shape
@@ -585,7 +576,10 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
                                                     "; move its center");
       }
   }
+}
 
+// Δt within the advective bound, and the semi-implicit coupling's table within the memory limit.
+void validate_time_step(const Reader& r, const Scene& s) {
   // Δt must respect the advective bound of the wave-like step.
   const ChannelFlowParams fp = s.flow_params();
   if (const double bound = advective_dt_bound(fp); s.dt > bound) {
@@ -610,6 +604,61 @@ Scene parse_scene(const std::string& text, const std::string& source, const std:
       r.fail("[time] coupling", m.str());
     }
   }
+}
+
+}  // namespace
+
+double Scene::fluid_area() const {
+  double a = length * height;
+  for (const Obstacle& o : obstacles) a -= (o.x[1] - o.x[0]) * (o.y[1] - o.y[0]);
+  return a;
+}
+
+double Scene::driving_force() const {
+  return body_force ? *body_force : body_force_from_reynolds(*reynolds0, fluid, height);
+}
+
+int Scene::advection_substeps_for(double dt) const {
+  ChannelFlowParams p = flow_params();
+  p.advection_substeps = 1;
+  return std::max(1, int(std::ceil(dt / advective_dt_bound(p) * (1 - 1e-12))));
+}
+
+ChannelFlowParams Scene::flow_params() const {
+  ChannelFlowParams p;
+  p.fluid = fluid;
+  p.length = length;
+  p.height = height;
+  p.mesh_size = mesh_size;
+  p.body_force = driving_force();
+  p.wall_velocity[0] = wall_velocity[0];
+  p.wall_velocity[1] = wall_velocity[1];
+  p.dt = dt;
+  p.advection_substeps = advection_substeps;
+  p.preconditioner = parse_pressure_preconditioner(pressure_preconditioner);
+  p.cg_tolerance = cg_tolerance;
+  p.cg_max_iterations = cg_max_iterations;
+  p.incremental_pressure = projection == "incremental";
+  return p;
+}
+
+Scene parse_scene(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+  const toml::table root = read_toml(text, source, overrides);
+  const Reader r(root, source);
+  r.check_structure();
+  Scene s;
+  s.source = source;
+  read_flow(r, s);
+  read_solver(r, s);
+  read_contacts(r, s);
+  read_output(r, s);
+  read_membrane(r, s);
+  read_bodies(root, r, s);
+  validate_mesh(r, s);
+  validate_obstacles(r, s);
+  validate_disks(r, s);
+  validate_cells(r, s);
+  validate_time_step(r, s);
   return s;
 }
 

@@ -20,7 +20,7 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
     obstacles_ = std::make_unique<ObstacleConstraint>(ObstacleGeometry(flow_.mesh(), scene.obstacles), flow_.diffusion().helmholtz(),
                                                       scene.obstacle_tolerance, parse_uzawa_preconditioner(scene.obstacle_preconditioner));
     flow_.diffusion().set_constraint(obstacles_.get());
-    if (semi_implicit_step_) semi_implicit_step_->set_fluid_not_x1_invariant();
+    if (coupling_) coupling_->set_fluid_not_x1_invariant();
   }
   // Disks: step 4 holds each in rigid motion (lib/fictitious_domain/rigid_disks.hpp).
   if (!scene.disks.empty()) {
@@ -33,7 +33,7 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
     disk_constraint_ = std::make_unique<DiskConstraint>(flow_.mesh(), flow_.diffusion().helmholtz(), scene.fluid.density, scene.dt,
                                                         scene.disk_tolerance);
     flow_.diffusion().set_constraint(disk_constraint_.get());
-    if (semi_implicit_step_) semi_implicit_step_->set_fluid_not_x1_invariant();
+    if (coupling_) coupling_->set_fluid_not_x1_invariant();
   }
 }
 
@@ -47,17 +47,14 @@ void Simulation::build_cells() {
     if (!shapes.count(key)) shapes.emplace(key, prepare_shape(model_of(model_, c.kb_scale), c.swelling_ratio));
     cells_.push_back(make_cell(shapes.at(key), c.swelling_ratio, c.center, c.angle, c.kb_scale));
   }
-  if (scene.coupling == "semi-implicit") {
-    semi_implicit_step_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance, options_);
-  }
+  if (scene.coupling == "semi-implicit")
+    coupling_ = std::make_unique<SemiImplicitMembraneStep>(flow_, model_, scene.coupling_tolerance, options_);
   else
-    explicit_step_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
+    coupling_ = std::make_unique<ExplicitMembraneStep>(flow_.mesh(), model_);
   // The scene's membrane repulsion (not in the study; off unless [repulsion] strength > 0).
   if (const MembraneRepulsion rep{scene.repulsion_range, scene.repulsion_strength}; rep.on())
-    membrane_move().set_repulsion(rep, scene.length, scene.height);
+    coupling_->membrane_move().set_repulsion(rep, scene.length, scene.height);
 }
-
-ExplicitMembraneStep& Simulation::membrane_move() { return explicit_step_ ? *explicit_step_ : semi_implicit_step_->membrane_move(); }
 
 // One step of the study's Lie scheme (the study's Section 2.4: its steps 1-4, its eqs. (19)-(21)
 // for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The fluid's steps are
@@ -69,8 +66,8 @@ void Simulation::step() {
   // (1) eq. (19), (3) eq. (20), (4) eq. (21); between (1) and (3) the membranes' step
   // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B.
   last_projection_ = flow_.step([this] { return membrane_step(); });
-  if (semi_implicit_step_) implicit_spring_correction();  // semi-implicit: the spring force at r^{n+2}
-  if (disk_constraint_) move_disks();                     // disks: G^{n+1}, θ^{n+1} from u^{n+1}
+  if (coupling_) implicit_spring_correction();  // semi-implicit coupling: the spring force at r^{n+2}
+  if (disk_constraint_) move_disks();            // disks: G^{n+1}, θ^{n+1} from u^{n+1}
 }
 
 void Simulation::hold_disks_where_they_will_be() {
@@ -88,10 +85,9 @@ const VelocityField* Simulation::membrane_step() {
   // places alone, which step 3 does not change).
   const VelocityField* f_B = nullptr;
   if (!cells_.empty()) {
-    f_B = explicit_step_ ? &explicit_step_->step(cells_, flow_.velocity(), scene_.dt)
-                         : &semi_implicit_step_->step(cells_, flow_.velocity(), scene_.dt);
+    f_B = &coupling_->step(cells_, flow_.velocity(), scene_.dt);
     if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
-      const RepulsionCount& c = membrane_move().last_repulsion();
+      const RepulsionCount& c = coupling_->membrane_move().last_repulsion();
       if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
     }
   }
@@ -99,9 +95,10 @@ const VelocityField* Simulation::membrane_step() {
 }
 
 void Simulation::implicit_spring_correction() {
-  // u^{n+1} += step 4's response to −S Δt K U^{n+1} (semi_implicit_coupling.hpp).
+  // u^{n+1} += step 4's response to −S Δt K U^{n+1} (semi_implicit/semi_implicit_coupling.hpp);
+  // the study's explicit coupling adds nothing.
   try {
-    flow_.add_velocity(semi_implicit_step_->implicit_correction(cells_, flow_.velocity()));
+    if (const VelocityField* du = coupling_->implicit_correction(cells_, flow_.velocity())) flow_.add_velocity(*du);
   } catch (const std::runtime_error& e) {  // the coupled GMRES did not converge
     std::ostringstream m;
     m << e.what() << " at t = " << time() << " s (step " << steps() << "); lower [time] dt";
@@ -279,7 +276,7 @@ void Simulation::save(CheckpointWriter& w) const {
   w.put(std::int64_t(cells_.size()));
   for (const Cell& c : cells_) w.put(c.nodes);
   w.put(speed_excess_time_);
-  if (semi_implicit_step_) semi_implicit_step_->save(w);
+  if (coupling_) coupling_->save(w);
   if (!disks_.empty()) {  // (nothing for scenes without disks: their checkpoints stay as they were)
     w.put(std::int64_t(disks_.size()));
     for (const Disk& d : disks_) w.put(Points{d.center, d.velocity, Eigen::Vector2d(d.angular_velocity, d.angle)});
@@ -300,7 +297,7 @@ void Simulation::load(CheckpointReader& r) {
   if (!(speed_excess_time_ >= 0) || speed_excess_time_ > time() + scene_.dt)  // at most the time run
     throw CheckpointError(r.path() + ": time spent above the speed limit " + std::to_string(speed_excess_time_) +
                           " s out of range [0, " + std::to_string(time()) + "] s (the time of the run)");
-  if (semi_implicit_step_) semi_implicit_step_->load(r, cells_);
+  if (coupling_) coupling_->load(r, cells_);
   if (!disks_.empty()) {
     const std::int64_t n = r.get_int();
     if (n != std::int64_t(disks_.size()))

@@ -10,7 +10,8 @@
 #include "fictitious_domain/rigid_disks.hpp"
 #include "fluid/channel_flow.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
-#include "immersed_boundary/semi_implicit_coupling.hpp"
+#include "immersed_boundary/membrane_coupling.hpp"
+#include "semi_implicit/semi_implicit_coupling.hpp"
 #include "scene/scene.hpp"
 
 namespace rbc {
@@ -86,13 +87,13 @@ class Simulation {
   long contact_steps() const { return contact_steps_; }  // steps in which a contact force acted
   long repulsion_steps() const { return repulsion_steps_; }  // steps in which the membrane repulsion acted
   // GMRES iterations of the semi-implicit coupling's cell-to-cell system (0: explicit or one cell).
-  int last_coupling_iterations() const { return semi_implicit_step_ ? semi_implicit_step_->last_iterations() : 0; }
+  int last_coupling_iterations() const { return coupling_ ? coupling_->last_iterations() : 0; }
   // Checkpoints: the state the next step needs (fluid, membranes, coupling), not the scene.
   void save(CheckpointWriter& w) const;
   void load(CheckpointReader& r);  // into a Simulation built from the same scene
   // The semi-implicit step (its cost breakdown), or null.
-  const SemiImplicitMembraneStep* semi_implicit_step() const { return semi_implicit_step_.get(); }
-  SemiImplicitMembraneStep* semi_implicit_step() { return semi_implicit_step_.get(); }
+  const SemiImplicitMembraneStep* semi_implicit_step() const { return dynamic_cast<const SemiImplicitMembraneStep*>(coupling_.get()); }
+  SemiImplicitMembraneStep* semi_implicit_step() { return dynamic_cast<SemiImplicitMembraneStep*>(coupling_.get()); }
 
  private:
   Scene scene_;
@@ -100,9 +101,8 @@ class Simulation {
   MembraneModel model_;
   CouplingOptions options_;
   std::vector<Cell> cells_;
-  // Only when the scene has cells: one of the two couplings (scene [time] coupling).
-  std::unique_ptr<ExplicitMembraneStep> explicit_step_;
-  std::unique_ptr<SemiImplicitMembraneStep> semi_implicit_step_;
+  // Only when the scene has cells: the coupling the scene chose ([time] coupling).
+  std::unique_ptr<MembraneCoupling> coupling_;
   // Only when the scene has obstacles: step 4's multiplier (installed in the fluid's diffusion).
   std::unique_ptr<ObstacleConstraint> obstacles_;
   // Only when the scene has disks: their state and step 4's rigid-motion multiplier.
@@ -111,7 +111,6 @@ class Simulation {
   VelocityField contact_field_;  // step 4's force density with the contact forces (and f_B)
   long contact_steps_ = 0;
   long repulsion_steps_ = 0;
-  ExplicitMembraneStep& membrane_move();  // step 2's mover, of either coupling
   // The parts of step(), in its order.
   void hold_disks_where_they_will_be();
   const VelocityField* membrane_step();  // step 4's force density: f_B and the disks' contact forces (null: none)

@@ -28,7 +28,7 @@
 #include <Eigen/Dense>
 
 #include "io/checkpoint.hpp"
-#include "immersed_boundary/step_mobility.hpp"
+#include "semi_implicit/step_mobility.hpp"
 #include "membrane/cell.hpp"
 #include "membrane/membrane_stiffness.hpp"
 #include "membrane/spring_membrane.hpp"

@@ -57,11 +57,12 @@
 
 #include "fluid/channel_flow.hpp"
 #include "io/checkpoint.hpp"
-#include "immersed_boundary/coupling_preconditioner.hpp"
-#include "immersed_boundary/coupling_products.hpp"
+#include "semi_implicit/coupling_preconditioner.hpp"
+#include "semi_implicit/coupling_products.hpp"
+#include "semi_implicit/detail/parallel_spreading.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
-#include "immersed_boundary/step_mobility.hpp"
+#include "semi_implicit/step_mobility.hpp"
 #include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
@@ -91,31 +92,33 @@ struct CouplingOptions {
 // (summary.json records it; --reuse compares it).
 std::string describe(const CouplingOptions& options);
 
-class SemiImplicitMembraneStep {
+class SemiImplicitMembraneStep : public MembraneCoupling {
  public:
   using Start = CouplingOptions::Start;
   // tolerance: relative residual of the cell-to-cell GMRES solve (several cells).
   SemiImplicitMembraneStep(ChannelFlow& flow, const MembraneModel& model, double tolerance = 1e-4, const CouplingOptions& options = {});
   // Step 2 (the study's): move the nodes with u^{n+1/3}, spread F^{n+1} for step 4.
-  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) { return move_.step(cells, u, dt); }
+  const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) override {
+    return move_.step(cells, u, dt);
+  }
   // Step 2's mover (the scene's membrane repulsion is set on it).
-  ExplicitMembraneStep& membrane_move() { return move_; }
+  ExplicitMembraneStep& membrane_move() override { return move_; }
   // After step 4 with F^{n+1}: u = u⁰ in (not changed); returns the velocity change A⁻¹ S (−Δt K U)
   // (m/s, zero on the walls) that turns u⁰ into u^{n+1}: step 4's response to the implicit force.
-  const VelocityField& implicit_correction(const std::vector<Cell>& cells, const VelocityField& u);
-  int last_iterations() const { return last_iterations_; }
+  const VelocityField* implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) override;
+  int last_iterations() const override { return last_iterations_; }
   // Whether the last step made P at the stencils' nodes only (CouplingOptions::projection).
   bool last_projection_at_footprint() const { return project_at_footprint_; }
   // The fluid is no longer invariant under shifts in x1 (an obstacle's multiplier in step 4): the
   // tabulated mobility is then only a preconditioner, and even one cell goes through GMRES, whose
   // products (spread, step 4, project, interpolate) are exact. Call it after the constraint is
   // installed in step 4 (the products' solves are chosen then).
-  void set_fluid_not_x1_invariant();
+  void set_fluid_not_x1_invariant() override;
   // Checkpoints: the projection's warm start, GMRES's starting point and the nodes the current
   // preconditioner blocks were built at (load rebuilds them from those nodes, so a resumed run
   // takes the same steps bit for bit).
-  void save(CheckpointWriter& w) const;
-  void load(CheckpointReader& r, const std::vector<Cell>& cells);
+  void save(CheckpointWriter& w) const override;
+  void load(CheckpointReader& r, const std::vector<Cell>& cells) override;
   // Where the time goes (wall seconds accumulated since construction; for the benchmark).
   struct Cost {
     double predictor = 0;  // P u⁰ and U⁰ = J P u⁰
@@ -176,9 +179,7 @@ class SemiImplicitMembraneStep {
   void project_at_footprint(const VelocityField& u, const std::vector<double>& p);
   void interpolate_projected(int c, const VelocityField& projected, Points& U) const;
   Eigen::VectorXd combination_;               // U = Σ combination_p z_p over those products
-  static constexpr int kSpreadSlabs = 4;       // x1 slabs of the products' spreading (even: two phases)
-  std::vector<std::vector<int>> slab_cells_;  // the cells of each slab (empty: per-thread arrays)
-  std::vector<std::vector<double>> thread_rhs_;  // threads 1.. of the per-thread spreading (both components)
+  detail::ParallelSpreading spreading_;       // the products' spreading schedule
   Eigen::MatrixXd basis_;                    // GMRES Krylov basis, sized once
   Eigen::MatrixXd arguments_;                // B⁻¹ of its vectors: the products' arguments
   int last_iterations_ = 0;
@@ -191,7 +192,6 @@ class SemiImplicitMembraneStep {
   Eigen::VectorXd last_U_, before_last_U_, last_rhs_, before_last_rhs_;
   // implicit_correction's phases, in order.
   Eigen::VectorXd predict(const std::vector<Cell>& cells, const VelocityField& u);  // U⁰ = J P u⁰
-  void assign_spreading_slabs(const std::vector<Cell>& cells);
   void prepare_system(const std::vector<Cell>& cells);  // K_c and the preconditioner's blocks
   Eigen::VectorXd solve_system(const std::vector<Cell>& cells, const Eigen::VectorXd& rhs);  // U
   void correct(const Eigen::VectorXd& U);  // correction_ = A⁻¹ S (−Δt K U)

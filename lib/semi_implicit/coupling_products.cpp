@@ -1,4 +1,4 @@
-#include "immersed_boundary/coupling_products.hpp"
+#include "semi_implicit/coupling_products.hpp"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "immersed_boundary/step_mobility.hpp"
+#include "semi_implicit/step_mobility.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <omp.h>
 
 #include "immersed_boundary/immersed_boundary.hpp"
-#include "immersed_boundary/phase_average_kernel.hpp"
+#include "semi_implicit/detail/phase_average_kernel.hpp"
 #include "immersed_boundary/peskin_delta.hpp"
 
 namespace rbc {

@@ -1,21 +1,15 @@
-#include "immersed_boundary/coupling_preconditioner.hpp"
+#include "semi_implicit/coupling_preconditioner.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "immersed_boundary/bf16_lu_solve.hpp"
 #include "membrane/membrane_stiffness.hpp"
+#include "semi_implicit/detail/bf16_lu_solve.hpp"
+#include "semi_implicit/detail/stopwatch.hpp"
 
 namespace rbc {
-
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 Eigen::Matrix2d best_fit_rotation(const Points& from, const Points& to) {
   if (from.size() != to.size() || to.empty()) throw std::invalid_argument("best_fit_rotation: node counts differ");
@@ -110,7 +104,7 @@ void CouplingPreconditioner::fit_turns(const std::vector<Cell>& cells) {
 }
 
 Eigen::VectorXd CouplingPreconditioner::apply(const Eigen::VectorXd& v, const std::vector<Eigen::Index>& offset) {
-  const auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch watch;
   Eigen::VectorXd out(v.size());
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < int(blocks_.size()); ++c) {
@@ -149,7 +143,7 @@ Eigen::VectorXd CouplingPreconditioner::apply(const Eigen::VectorXd& v, const st
       out.segment(offset[c], n) = blocks_[c].lu.solve(v.segment(offset[c], n));
     }
   }
-  apply_seconds_ += seconds_since(t0);
+  watch.lap(apply_seconds_);
   return out;
 }
 

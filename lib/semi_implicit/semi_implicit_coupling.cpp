@@ -1,14 +1,12 @@
-#include "immersed_boundary/semi_implicit_coupling.hpp"
+#include "semi_implicit/semi_implicit_coupling.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-#include <omp.h>
-
 #include "immersed_boundary/immersed_boundary.hpp"
+#include "semi_implicit/detail/stopwatch.hpp"
 
 namespace rbc {
 
@@ -43,12 +41,6 @@ void SemiImplicitMembraneStep::set_fluid_not_x1_invariant() {
   products_.reset();  // chosen again for the constrained step 4
 }
 
-namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
-
 CouplingProducts& SemiImplicitMembraneStep::products() {
   // Made at first use: the fluid's step 4 (with or without a constraint) is then installed.
   if (!products_)
@@ -59,76 +51,34 @@ CouplingProducts& SemiImplicitMembraneStep::products() {
 
 Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& cells, const Eigen::VectorXd& v) {
   // (I + Δt M K) v with M = J P A⁻¹ S over all cells at once, the long way (exact).
-  const auto t0 = std::chrono::steady_clock::now();
+  detail::Stopwatch whole, part;
   ++cost_.product_count;
   const int ncells = int(cells.size());
   // h² S K v, spread straight into step 4's right-hand sides (weights φ_x φ_y: S has 1/h²).
-  // K v first, every cell on its own (shared evenly by the threads), then the spreading, whose
-  // shares follow the cells' places (below).
-  const int nx = mesh_.nx, ny = mesh_.ny;
+  // K v first, every cell on its own (shared evenly by the threads), then the spreading
+  // (detail/parallel_spreading.hpp: in parallel, each node's sum in a fixed order).
   kv_.resize(v.size());
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {
     const Eigen::Index n = offset_[c + 1] - offset_[c];
     kv_.segment(offset_[c], n) = stiffness_[c].apply(v.segment(offset_[c], n));
   }
-  auto spread = [&](int c, double* f1, double* f2) {
-    spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
-  };
-  // (Named pointers, not a structured binding: the OpenMP regions below capture them, which clang
-  // before version 16 refuses for bindings.)
   const std::pair<double*, double*> rhs = products().force_rhs();
-  double* const f1 = rhs.first;
-  double* const f2 = rhs.second;
-  if (!slab_cells_.empty()) {
-    // Cells in x1 slabs (see implicit_correction): the even slabs' cells touch disjoint mesh
-    // nodes, so their threads add into the same arrays; then the odd slabs'. Every node sums its
-    // cells in the same order whatever the thread count.
-    for (int phase = 0; phase < 2; ++phase) {
-#pragma omp parallel for schedule(static, 1)
-      for (int s = phase; s < int(slab_cells_.size()); s += 2)
-        for (int c : slab_cells_[s]) spread(c, f1, f2);
-    }
-  } else {
-    // Otherwise each thread spreads its share of the cells (a fixed share: the sum is the same
-    // from run to run for a given thread count) into its own arrays, added in thread order. The
-    // shares are of the team the runtime gives (OMP_DYNAMIC, OMP_THREAD_LIMIT or a nested region
-    // may give fewer threads than asked for): every cell is spread, and only the arrays the team
-    // filled are added.
-    const int threads = std::max(1, std::min(omp_get_max_threads(), ncells));
-    const std::size_t size = std::size_t(nx) * (ny - 1);
-    if (int(thread_rhs_.size()) != threads - 1) thread_rhs_.assign(threads - 1, std::vector<double>(2 * size));
-    int team = 1;
-#pragma omp parallel num_threads(threads)
-    {
-      const int t = omp_get_thread_num(), n = omp_get_num_threads();
-      if (t == 0) team = n;
-      double* g1 = t == 0 ? f1 : thread_rhs_[t - 1].data();
-      double* g2 = t == 0 ? f2 : thread_rhs_[t - 1].data() + size;
-      if (t > 0) std::fill(thread_rhs_[t - 1].begin(), thread_rhs_[t - 1].end(), 0.0);
-      for (int c = t * ncells / n; c < (t + 1) * ncells / n; ++c) spread(c, g1, g2);
-    }
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(size); ++k)
-      for (int t = 1; t < team; ++t) {
-        f1[k] += thread_rhs_[t - 1][k];
-        f2[k] += thread_rhs_[t - 1][size + k];
-      }
-  }
-  cost_.product_spread += seconds_since(t0);
+  spreading_.run(ncells, std::size_t(mesh_.nx) * (mesh_.ny - 1), rhs.first, rhs.second, [&](int c, double* f1, double* f2) {
+    spread_forces_interior(mesh_, move_.stencils()[c], kv_.data() + offset_[c], f1, f2);
+  });
+  part.lap(cost_.product_spread);
   // A⁻¹ S K v, kept for the correction (u^{n+1} − u⁰ is a combination of these), then P: over
   // the mesh, or at the footprint only (footprint_, see predict).
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
-  const auto t1 = std::chrono::steady_clock::now();
   products_->response(response);
-  cost_.product_solve += seconds_since(t1);
-  const auto t2 = std::chrono::steady_clock::now();
+  part.lap(cost_.product_solve);
   if (project_at_footprint_)
     project_at_footprint(response, products_->pressure(response));
   else
     products_->project(response, work_);
-  cost_.product_project += seconds_since(t2);
+  part.lap(cost_.product_project);
   Eigen::VectorXd out = v;
 #pragma omp parallel for schedule(static)
   for (int c = 0; c < ncells; ++c) {  // out += Δt J P A⁻¹ S K v
@@ -139,7 +89,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
       out[offset_[c] + 2 * k + 1] += dt_ * U[k].y();
     }
   }
-  cost_.products += seconds_since(t0);
+  whole.lap(cost_.products);
   return out;
 }
 
@@ -182,10 +132,10 @@ Eigen::VectorXd SemiImplicitMembraneStep::solve_coupled(const std::vector<Cell>&
   if (!converged) {
     // The blocks have gone too stale for this Δt (the cells moved further than they were built
     // ahead for): rebuild them at the nodes of this step and go on from where GMRES got to.
-    const auto t0 = std::chrono::steady_clock::now();
+    const detail::Stopwatch watch;
     preconditioner_.rebuild_fresh(cells, offset_);
     fresh_in_step_ = true;
-    const double seconds = seconds_since(t0);  // counted as blocks, not as the coupled solve
+    const double seconds = watch.seconds();  // counted as blocks, not as the coupled solve
     cost_.blocks += seconds;
     cost_.coupled -= seconds;
     U = gmres(cells, rhs, U, true, kCouplingMaxIterations, target, converged);
@@ -259,25 +209,21 @@ Eigen::VectorXd SemiImplicitMembraneStep::gmres(const std::vector<Cell>& cells, 
 
 // After step 4 with F^{n+1}: predict the nodes' velocities U⁰ = J P u⁰, solve the coupled system
 // (I + Δt M K) U = U⁰, and return step 4's response to −Δt K U (the header's equations).
-const VelocityField& SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
-  using clock = std::chrono::steady_clock;
+const VelocityField* SemiImplicitMembraneStep::implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) {
   ++cost_.steps;
-  auto t0 = clock::now();
+  detail::Stopwatch watch;
   const Eigen::VectorXd rhs = predict(cells, u);
-  cost_.predictor += seconds_since(t0);
-  t0 = clock::now();
+  watch.lap(cost_.predictor);
   prepare_system(cells);
-  cost_.blocks += seconds_since(t0);
-  t0 = clock::now();
+  watch.lap(cost_.blocks);
   const Eigen::VectorXd U = solve_system(cells, rhs);
-  cost_.coupled += seconds_since(t0);
-  t0 = clock::now();
+  watch.lap(cost_.coupled);
   correct(U);
-  cost_.correction += seconds_since(t0);
+  watch.lap(cost_.correction);
   cost_.preconditioner = preconditioner_.apply_seconds();
   cost_.block_builds = preconditioner_.block_builds();
   cost_.fresh_rebuilds = preconditioner_.fresh_rebuilds();
-  return correction_;
+  return &correction_;
 }
 
 Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells, const VelocityField& u) {
@@ -323,7 +269,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::predict(const std::vector<Cell>& cells
     interpolate_projected(c, projected_, U0);
     rhs.segment(offset_[c], offset_[c + 1] - offset_[c]) = Eigen::Map<const Eigen::VectorXd>(U0[0].data(), 2 * U0.size());
   }
-  assign_spreading_slabs(cells);
+  spreading_.assign(mesh_, cells);
   return rhs;
 }
 
@@ -344,32 +290,6 @@ void SemiImplicitMembraneStep::interpolate_projected(int c, const VelocityField&
     footprint_.interpolate(c, move_.stencils()[c], footprint1_.data(), footprint2_.data(), U);
   else
     interpolate_velocity(mesh_, projected, move_.stencils()[c], U);
-}
-
-void SemiImplicitMembraneStep::assign_spreading_slabs(const std::vector<Cell>& cells) {
-  // Slabs for the products' spreading: the channel cut into kSpreadSlabs equal slabs along x1,
-  // each cell in the slab of its mean x1. Used when no cell reaches further than half a slab
-  // from its mean (its stencils and a mesh cell of margin included), so that slabs two apart
-  // never touch the same nodes; otherwise (narrow channels) the per-thread arrays.
-  const int ncells = int(cells.size());
-  slab_cells_.clear();
-  if (ncells < 2) return;
-  const double slab = mesh_.length / kSpreadSlabs;
-  double reach = 0;
-  std::vector<double> mean(ncells);
-  for (int c = 0; c < ncells; ++c) {
-    double sum = 0;
-    for (const auto& r : cells[c].nodes) sum += r.x();
-    mean[c] = sum / double(cells[c].nodes.size());
-    for (const auto& r : cells[c].nodes) reach = std::max(reach, std::abs(r.x() - mean[c]));
-  }
-  if (2 * (reach + 3 * mesh_.h) < slab) {
-    slab_cells_.resize(kSpreadSlabs);
-    for (int c = 0; c < ncells; ++c) {
-      const double x = image_in_period(mean[c], mesh_.length);
-      slab_cells_[std::min(kSpreadSlabs - 1, int(x / slab))].push_back(c);
-    }
-  }
 }
 
 void SemiImplicitMembraneStep::prepare_system(const std::vector<Cell>& cells) {
