@@ -7,11 +7,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include <Eigen/Core>
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "fluid/channel_flow.hpp"
+#include "fluid/detail/advection_kernels.hpp"
 #include "semi_implicit/coupling_products.hpp"
 
 namespace rbc {
@@ -337,6 +340,49 @@ TEST(WaveLikeAdvection, SubstepsAgreeWithASingleStep) {
   double d = 0;
   for (std::size_t k = 0; k < a.u1.size(); ++k) d = std::max(d, std::abs(a.u1[k] - b.u1[k]));
   EXPECT_LT(d, 1e-3);
+}
+
+TEST(WaveLikeAdvection, TheGatherKernelKeepsItsStatedArithmetic) {
+  // detail::gather_row (fluid/detail/advection_kernels.hpp) against the plain loop of its formula,
+  // written out here node by node: with AVX2 the sums in the order and with the fused
+  // multiply-adds the kernel states (bit for bit, through the wrapping first node, the vector
+  // body and the remainder: row lengths 2 to 13 and 160); without, the same loop as the kernel's.
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  int differing = 0, compared = 0;
+  for (int nx : {2, 3, 4, 5, 6, 7, 8, 9, 12, 13, 160}) {
+    auto random = [&](std::size_t n) {
+      std::vector<double> v(n);
+      for (double& x : v) x = value(gen);
+      return v;
+    };
+    const std::vector<double> glj = random(nx), guj = random(nx), gld = random(nx), gud = random(nx);
+    const std::vector<double> vlx = random(2 * nx), vly = random(2 * nx), vux = random(2 * nx), vuy = random(2 * nx);
+    const double inv_h = 1.0 / 0.3125e-6;
+    const std::size_t o = nx, od = 0;  // node row 1 over triangle rows 1 and 0
+    std::vector<double> A(nx), C(nx);
+    detail::gather_row(nx, inv_h, o, od, glj.data(), guj.data(), gld.data(), gud.data(), vlx.data(), vly.data(), vux.data(),
+                       vuy.data(), A.data(), C.data());
+    for (int i = 0; i < nx; ++i) {
+      const int im = i == 0 ? nx - 1 : i - 1;
+      const std::size_t a = o + i, b = o + im, cc = od + i, d = od + im;
+#if defined(__AVX2__) && defined(__FMA__)
+      double sum = std::fma(glj[i], -vlx[a] - vly[a], glj[im] * vlx[b]);
+      sum = std::fma(gld[i], vly[cc], sum);
+      sum = std::fma(-guj[im], vuy[b], sum);
+      sum = std::fma(gud[im], vux[d] + vuy[d], sum);
+      sum = std::fma(-gud[i], vux[cc], sum);
+#else
+      const double sum = glj[i] * (-vlx[a] - vly[a]) + glj[im] * vlx[b] + gld[i] * vly[cc] - guj[im] * vuy[b] +
+                         gud[im] * (vux[d] + vuy[d]) - gud[i] * vux[cc];
+#endif
+      const double expected_a = 0.5 * sum * inv_h;
+      const double expected_c = -(glj[i] + glj[im] + gld[i] + guj[im] + gud[im] + gud[i]) / 6.0;
+      differing += (A[i] != expected_a) + (C[i] != expected_c);
+      compared += 2;
+    }
+  }
+  EXPECT_EQ(differing, 0) << "of " << compared << " values, the kernel's differ in bits from its stated arithmetic";
 }
 
 TEST(WaveLikeAdvection, AShiftAlongX1CommutesWithTheStepBitForBit) {
