@@ -25,6 +25,25 @@ using namespace four_cells_vs_disks;
 // make reproduce runs --study-only: each case's reported Δt run, the one its rows and figures read;
 // the level below it (the k_b cells at 0.75 us, the 1000 k_b ones at 0.375 us) is make evidence's
 // (the quick parameters keep their cases).
+TEST(WorkPrecision, RichardsonCentroidsTakeTheCoarseRunToTheNearestImage) {
+  // 2 c(Δt) − c(2Δt) body by body; a body that crossed the periodic seam between the two runs
+  // (x1 = 1 um in the fine run, 99 um in the coarse one, L = 100 um) is extrapolated across it,
+  // not through the channel: 2 × 1 − (−1) = 3 um.
+  const double L = 100e-6;
+  const std::vector<Eigen::Vector2d> fine = {{1e-6, 10e-6}, {50e-6, 20e-6}}, coarse = {{99e-6, 11e-6}, {49e-6, 20.5e-6}};
+  const auto r = case_runner::richardson_centroids(fine, coarse, L);
+  ASSERT_EQ(r.size(), 2u);
+  EXPECT_NEAR(r[0].x(), 3e-6, 1e-18);
+  EXPECT_NEAR(r[0].y(), 9e-6, 1e-18);
+  EXPECT_NEAR(r[1].x(), 51e-6, 1e-18);
+  EXPECT_NEAR(r[1].y(), 19.5e-6, 1e-18);
+  // An exact first-order error e Δt is removed: c(Δt) = c0 + e Δt, c(2Δt) = c0 + 2 e Δt.
+  const std::vector<Eigen::Vector2d> c0 = {{20e-6, 5e-6}};
+  const Eigen::Vector2d e(0.3e-6, -0.2e-6);
+  const auto exact = case_runner::richardson_centroids({c0[0] + e}, {c0[0] + 2 * e}, L);
+  EXPECT_NEAR((exact[0] - c0[0]).norm(), 0.0, 1e-18);
+}
+
 TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseConvergenceRuns) {
   Params p;
   p.study_only = true;

@@ -148,7 +148,42 @@ TEST(UncertaintyEstimator, DescribeNamesTheOrderTheFitsSigmaAndTheSafetyFactor) 
   // A reader sees "p = …, fit σ …, … (Fs …)" for a converging sequence.
   RefinementUncertainty u = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1);
   u.label = "dt 1/2/4 us";
-  EXPECT_EQ(u.describe(3), "dt 1/2/4 us: p = 1, fit σ 0, U 0.625 (Fs 1.25)");
+  EXPECT_EQ(u.describe(3), "dt 1/2/4 us: p = 1, fit σ 0, U 0.625 (Fs 1.25); Richardson 3 ± 0");
+}
+
+TEST(UncertaintyEstimator, RichardsonExtrapolatesInTheAsymptoticRangeWithItsOwnU) {
+  // φ(Δt) = 1 + Δt + 0.01 Δt² at Δt = 1, 2, 4 (first order with a small second-order part):
+  // φ_R = 2 φ(1) − φ(2) = 0.98, from one level coarser 2 φ(2) − φ(4) = 0.92, U_R = 1.25 × 0.06;
+  // the limit 1 lies within φ_R ± U_R.
+  auto phi = [](double dt) { return 1 + dt + 0.01 * dt * dt; };
+  const RefinementUncertainty u = grid_convergence_index({phi(1), phi(2), phi(4)}, 2, 1);
+  const auto R = richardson(u);
+  ASSERT_TRUE(R.has_value()) << u.describe();
+  EXPECT_NEAR(R->value, 0.98, 1e-12);
+  EXPECT_NEAR(R->u, 1.25 * 0.06, 1e-12);
+  EXPECT_LE(std::abs(R->value - 1.0), R->u);
+  // Two levels: the value, no U of its own.
+  const auto two = richardson(grid_convergence_index({phi(1), phi(2)}, 2, 1));
+  ASSERT_TRUE(two.has_value());
+  EXPECT_NEAR(two->value, 0.98, 1e-12);
+  EXPECT_TRUE(std::isnan(two->u));
+  // Second order in h: φ_R = φ_0 + (φ_0 − φ_1)/3.
+  const auto h = richardson(grid_convergence_index({1.25, 2.0}, 2, 2));
+  ASSERT_TRUE(h.has_value());
+  EXPECT_NEAR(h->value, 1.0, 1e-12);
+}
+
+TEST(UncertaintyEstimator, RichardsonRefusesNoiseAndSequencesOutsideTheAsymptoticRange) {
+  // Steps within the noise of a start ensemble (a chaotic quantity, s = 0.1): no extrapolation.
+  EXPECT_FALSE(richardson(grid_convergence_index({9.10, 9.15, 9.25}, 2, 1, 0, 0.1)).has_value());
+  // Not monotone: outside the asymptotic range.
+  EXPECT_FALSE(richardson(grid_convergence_index({3.0, 3.4, 3.1}, 2, 1)).has_value());
+  // An observed order far above the formal one (p = 3 for a first-order scheme): F_s = 3, none.
+  EXPECT_FALSE(richardson(grid_convergence_index({1.001, 1.008, 1.064}, 2, 1)).has_value());
+  // Steps that hardly shrink (p = 0.07): outside the range.
+  EXPECT_FALSE(richardson(grid_convergence_index({9.115, 9.156, 9.199}, 2, 1)).has_value());
+  // The noisy sequence without noise, converging at first order, is extrapolated.
+  EXPECT_TRUE(richardson(grid_convergence_index({9.10, 9.15, 9.25}, 2, 1)).has_value());
 }
 
 }  // namespace

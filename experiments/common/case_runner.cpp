@@ -62,6 +62,17 @@ std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, 
   return {std::sqrt(s / n), std::sqrt(sy / n)};
 }
 
+std::vector<Eigen::Vector2d> richardson_centroids(const std::vector<Eigen::Vector2d>& fine, const std::vector<Eigen::Vector2d>& coarse,
+                                                  double L) {
+  std::vector<Eigen::Vector2d> r;
+  for (std::size_t b = 0; b < fine.size() && b < coarse.size(); ++b) {
+    Eigen::Vector2d c = coarse[b];
+    c.x() = fine[b].x() + nearest_image(c.x() - fine[b].x(), L);
+    r.push_back(2 * fine[b] - c);
+  }
+  return r;
+}
+
 std::string convergence_table(std::vector<ConvergenceRow> rows, const std::string& csv_path, const std::string& intro) {
   std::sort(rows.begin(), rows.end(), [](const ConvergenceRow& a, const ConvergenceRow& b) {
     return std::tie(a.kind, b.h, b.dt) < std::tie(b.kind, a.h, a.dt);  // by kind, coarse to fine

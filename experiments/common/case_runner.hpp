@@ -80,6 +80,12 @@ std::string num(double v);
 // x2 part; a and ref hold the same bodies in the same order. Returns {total, x2}.
 std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& ref, double L);
 
+// Richardson extrapolation in Δt (first order) of the bodies' centroids from runs at Δt (fine) and
+// 2Δt (coarse): 2 c(Δt) − c(2Δt) body by body, the coarse x1 taken to the image nearest the fine
+// one (channel length L); fine and coarse hold the same bodies in the same order.
+std::vector<Eigen::Vector2d> richardson_centroids(const std::vector<Eigen::Vector2d>& fine, const std::vector<Eigen::Vector2d>& coarse,
+                                                  double L);
+
 // One run of a work-precision study: its kind ("explicit", "semi-implicit", ...), h (m), Δt (s),
 // steps, wall time (s), errors (m; NaN without a reference) and why it stopped (empty: it did not).
 struct ConvergenceRow {

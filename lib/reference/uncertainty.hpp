@@ -91,6 +91,7 @@ struct RefinementUncertainty {
   // e.g. "Δt 1.5/3/6 us: p = 0.93, fit σ 0.004, U 0.042 (Fs 1.25)",
   // "Δt 0.75/1.5/3/6 us: p = 1.7; fit p = 1, fit σ 0.024, U 0.28 of the second finest (Fs 3)" or
   // "Δt 1.5/3/6 us: noise: no convergence observed (s 0.023), U 0.07"; `digits` significant digits.
+  // Where richardson() gives an estimate, it follows: "; Richardson 12.834 ± 0.02".
   std::string describe(int digits = 2) const;
 };
 
@@ -101,6 +102,21 @@ struct RefinementUncertainty {
 // reported level outside the levels given, or a negative noise.
 RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_first, double ratio, double formal_order, int reported = 0,
                                              double noise = NAN);
+
+// Richardson extrapolation to Δt → 0 (h → 0) at the formal order q, for a sequence that shows its
+// asymptotic range by the estimator's own test (F_s = 1.25: monotone, q/4 ≤ p < 1.05 q, σ* < Δ_φ;
+// with two levels: not read as noise), from the finest two levels φ_0, φ_1:
+//   φ_R = φ_0 + (φ_0 − φ_1)/(r^q − 1),
+// and its own U at 95 %, from the same extrapolation one level coarser (φ_1, φ_2), φ_R':
+//   U_R = 1.25 |φ_R − φ_R'|
+// (the extrapolate's change over one refinement: its remainder, of a higher order, shrinks by
+// more than r^q per level, so the change bounds it with the estimator's F_s); NaN with two levels.
+// None for a sequence outside its asymptotic range, scattered or noise (a chaotic quantity).
+struct RichardsonEstimate {
+  double value = NAN;  // φ_R, in the value's unit
+  double u = NAN;      // U_R at 95 % (NaN: two levels, no U of its own)
+};
+std::optional<RichardsonEstimate> richardson(const RefinementUncertainty& r);
 
 // Sample standard deviation (n − 1); NaN for fewer than two values.
 double sample_std(const std::vector<double>& v);
