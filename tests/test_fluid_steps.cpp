@@ -343,10 +343,11 @@ TEST(WaveLikeAdvection, SubstepsAgreeWithASingleStep) {
 }
 
 TEST(WaveLikeAdvection, TheGatherKernelKeepsItsStatedArithmetic) {
-  // detail::gather_row (fluid/detail/advection_kernels.hpp) against the plain loop of its formula,
-  // written out here node by node: with AVX2 the sums in the order and with the fused
-  // multiply-adds the kernel states (bit for bit, through the wrapping first node, the vector
-  // body and the remainder: row lengths 2 to 13 and 160); without, the same loop as the kernel's.
+  // detail::gather_row (fluid/detail/advection_kernels.hpp) against its formula written out here
+  // node by node: with AVX2, the vector body against the scalar node expression the kernel states
+  // (its sums in order, its fused multiply-adds; bit for bit through the wrapping first node, the
+  // vector body and the remainder: row lengths 2 to 13 and 160). Without AVX2 the kernel is that
+  // plain loop, and the comparison only guards the row's indexing.
   std::mt19937 gen(11);
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   int differing = 0, compared = 0;

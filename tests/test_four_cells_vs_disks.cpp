@@ -22,9 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 using namespace four_cells_vs_disks;
 
-// make reproduce runs --study-only: each case's reported Δt run, the one its rows and figures read;
-// the level below it (the k_b cells at 0.75 us, the 1000 k_b ones at 0.375 us) is make evidence's
-// (the quick parameters keep their cases).
 TEST(WorkPrecision, RichardsonCentroidsTakeTheCoarseRunToTheNearestImage) {
   // 2 c(Δt) − c(2Δt) body by body; a body that crossed the periodic seam between the two runs
   // (x1 = 1 um in the fine run, 99 um in the coarse one, L = 100 um) is extrapolated across it,
@@ -44,6 +41,9 @@ TEST(WorkPrecision, RichardsonCentroidsTakeTheCoarseRunToTheNearestImage) {
   EXPECT_NEAR((exact[0] - c0[0]).norm(), 0.0, 1e-18);
 }
 
+// make reproduce runs --study-only: each case's reported Δt run, the one its rows and figures read;
+// the level below it (the k_b cells at 0.75 us, the 1000 k_b ones at 0.375 us) is make evidence's
+// (the quick parameters keep their cases).
 TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseConvergenceRuns) {
   Params p;
   p.study_only = true;

@@ -7,7 +7,7 @@
 // each wall of 6.24 um and 2.94 um (mean of the two walls, last millisecond), close to the
 // empirical estimate 100/Hct um (5.8 and 2.9 um); Re with the cells 2.346 and 1.677.
 //
-// Method: the cells by the semi-implicit coupling (lib/immersed_boundary), the pressure in its
+// Method: the cells by the semi-implicit coupling (lib/semi_implicit), the pressure in its
 // incremental form (cell_free_layer.toml, README.md: Deviations); the health check
 // stops a run whose membranes cross (lib/membrane/membrane_crossing.hpp). Scene:
 // cell_free_layer.toml (channel, time, output) plus each case's cells, added here.

@@ -11,7 +11,7 @@
 // centreline; cells and disks end staggered, not side by side. Re with the cells 2.710, 2.705,
 // 2.685, 2.673 (s* = 0.7: 2.760).
 //
-// Method: the cells by the semi-implicit coupling (lib/immersed_boundary), the disks by the
+// Method: the cells by the semi-implicit coupling (lib/semi_implicit), the disks by the
 // distributed Lagrange multiplier of step 4 (lib/fictitious_domain/rigid_disks.hpp,
 // paper/method/06_rigid_disks.md). Scene: four_cells_vs_disks.toml (channel, time, output) plus
 // each case's bodies, added here.

@@ -18,7 +18,7 @@
 
 namespace rbc {
 
-class ExplicitMembraneStep : public MembraneCoupling {
+class ExplicitMembraneStep final : public MembraneCoupling {
  public:
   ExplicitMembraneStep(const ChannelMesh& mesh, const MembraneModel& model);
   // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.

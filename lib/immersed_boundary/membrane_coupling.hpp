@@ -26,7 +26,8 @@ class MembraneCoupling {
   // After step 4, u = u^{n+1} of the explicit force: the velocity change (m/s) that completes
   // u^{n+1}, or null where the coupling adds none.
   virtual const VelocityField* implicit_correction(const std::vector<Cell>& cells, const VelocityField& u) = 0;
-  // Step 2's mover (the scene's membrane repulsion is set on it).
+  // Step 2's mover: the study's explicit step itself, which the semi-implicit coupling moves and
+  // spreads with too (so the scene's membrane repulsion is set, and counted, on it for either).
   virtual ExplicitMembraneStep& membrane_move() = 0;
   // Step 4 has a multiplier (obstacles, disks): the fluid is no longer invariant under shifts in x1.
   virtual void set_fluid_not_x1_invariant() {}

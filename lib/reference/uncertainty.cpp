@@ -296,21 +296,25 @@ std::string RefinementUncertainty::describe(int digits) const {
              g(fit_sigma, digits);
   }
   s += ", U " + g(u, digits) + of + " (Fs " + g(safety_factor, 3) + ")";
-  if (const auto R = richardson(*this))
-    s += "; Richardson " + g(R->value, digits + 3) + (std::isfinite(R->u) ? " ± " + g(R->u, digits) : " (two levels: no U of its own)");
+  if (const auto R = richardson(*this))  // the change, not the value: records keep values relative to a level
+    s += " [Richardson: the limit " + std::string(R->value >= values[0] ? "+" : "") + g(R->value - values[0], digits) + " from the finest" +
+         (std::isfinite(R->u) ? " ± " + g(R->u, digits) + "]" : ", two levels: no U of its own]");
   return s;
 }
 
 std::optional<RichardsonEstimate> richardson(const RefinementUncertainty& r) {
   const std::vector<double>& f = r.values;
   if (f.size() < 2 || !(r.ratio > 1) || !(r.formal_order > 0) || r.noise_dominated) return std::nullopt;
+  if (std::isfinite(r.noise) && r.noise > 0) return std::nullopt;  // a spread of starts given: a chaotic quantity
   if (!std::all_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); })) return std::nullopt;
   if (r.fit == RefinementFit::Noise || r.fit == RefinementFit::Constant) return std::nullopt;
   if (f.size() >= 3 && r.safety_factor != 1.25) return std::nullopt;  // outside the asymptotic range
   const double c = std::pow(r.ratio, r.formal_order) - 1;
   RichardsonEstimate e;
   e.value = f[0] + (f[0] - f[1]) / c;
-  if (f.size() >= 3) e.u = 1.25 * std::abs(e.value - (f[1] + (f[1] - f[2]) / c));
+  // (and at least its distance to the estimator's own limit: an observed order below q leaves
+  // more than the formal extrapolation removes)
+  if (f.size() >= 3) e.u = std::max(1.25 * std::abs(e.value - (f[1] + (f[1] - f[2]) / c)), std::abs(e.value - r.extrapolated));
   return e;
 }
 

@@ -91,7 +91,8 @@ struct RefinementUncertainty {
   // e.g. "Δt 1.5/3/6 us: p = 0.93, fit σ 0.004, U 0.042 (Fs 1.25)",
   // "Δt 0.75/1.5/3/6 us: p = 1.7; fit p = 1, fit σ 0.024, U 0.28 of the second finest (Fs 3)" or
   // "Δt 1.5/3/6 us: noise: no convergence observed (s 0.023), U 0.07"; `digits` significant digits.
-  // Where richardson() gives an estimate, it follows: "; Richardson 12.834 ± 0.02".
+  // Where richardson() gives an estimate, it follows as the change from the finest level (values
+  // may be recorded relative to a level): " [Richardson: the limit +0.12 from the finest ± 0.02]".
   std::string describe(int digits = 2) const;
 };
 
@@ -107,11 +108,13 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_f
 // asymptotic range by the estimator's own test (F_s = 1.25: monotone, q/4 ≤ p < 1.05 q, σ* < Δ_φ;
 // with two levels: not read as noise), from the finest two levels φ_0, φ_1:
 //   φ_R = φ_0 + (φ_0 − φ_1)/(r^q − 1),
-// and its own U at 95 %, from the same extrapolation one level coarser (φ_1, φ_2), φ_R':
-//   U_R = 1.25 |φ_R − φ_R'|
-// (the extrapolate's change over one refinement: its remainder, of a higher order, shrinks by
-// more than r^q per level, so the change bounds it with the estimator's F_s); NaN with two levels.
-// None for a sequence outside its asymptotic range, scattered or noise (a chaotic quantity).
+// and its own U at 95 %, from the same extrapolation one level coarser (φ_1, φ_2), φ_R', and the
+// estimator's own limit φ_fit:
+//   U_R = max(1.25 |φ_R − φ_R'|, |φ_R − φ_fit|)
+// (the extrapolate's change over one refinement bounds its remainder where that is of a higher
+// order; where the observed order is below q the fit's limit lies further, and U_R reaches it);
+// NaN with two levels. None for a sequence outside its asymptotic range, scattered, noise, or
+// one given a spread of starts s (a chaotic quantity: the crowds, the four cells).
 struct RichardsonEstimate {
   double value = NAN;  // φ_R, in the value's unit
   double u = NAN;      // U_R at 95 % (NaN: two levels, no U of its own)

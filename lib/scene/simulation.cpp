@@ -66,8 +66,8 @@ void Simulation::step() {
   // (1) eq. (19), (3) eq. (20), (4) eq. (21); between (1) and (3) the membranes' step
   // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B.
   last_projection_ = flow_.step([this] { return membrane_step(); });
-  if (coupling_) implicit_spring_correction();  // semi-implicit coupling: the spring force at r^{n+2}
-  if (disk_constraint_) move_disks();            // disks: G^{n+1}, θ^{n+1} from u^{n+1}
+  if (coupling_) coupling_after_step4();  // cells: the semi-implicit coupling's spring force at r^{n+2}
+  if (disk_constraint_) move_disks();     // disks: G^{n+1}, θ^{n+1} from u^{n+1}
 }
 
 void Simulation::hold_disks_where_they_will_be() {
@@ -84,7 +84,7 @@ const VelocityField* Simulation::membrane_step() {
   // adds the disks' contact forces over their area (none without disks; they depend on the disks'
   // places alone, which step 3 does not change).
   const VelocityField* f_B = nullptr;
-  if (!cells_.empty()) {
+  if (coupling_) {  // (the scene has cells)
     f_B = &coupling_->step(cells_, flow_.velocity(), scene_.dt);
     if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
       const RepulsionCount& c = coupling_->membrane_move().last_repulsion();
@@ -94,9 +94,9 @@ const VelocityField* Simulation::membrane_step() {
   return disk_constraint_ ? add_contact_forces(f_B) : f_B;
 }
 
-void Simulation::implicit_spring_correction() {
-  // u^{n+1} += step 4's response to −S Δt K U^{n+1} (semi_implicit/semi_implicit_coupling.hpp);
-  // the study's explicit coupling adds nothing.
+void Simulation::coupling_after_step4() {
+  // The semi-implicit coupling: u^{n+1} += step 4's response to −S Δt K U^{n+1}
+  // (semi_implicit/semi_implicit_coupling.hpp); the study's explicit coupling adds nothing.
   try {
     if (const VelocityField* du = coupling_->implicit_correction(cells_, flow_.velocity())) flow_.add_velocity(*du);
   } catch (const std::runtime_error& e) {  // the coupled GMRES did not converge

@@ -114,7 +114,7 @@ class Simulation {
   // The parts of step(), in its order.
   void hold_disks_where_they_will_be();
   const VelocityField* membrane_step();  // step 4's force density: f_B and the disks' contact forces (null: none)
-  void implicit_spring_correction();
+  void coupling_after_step4();  // what the cells' coupling adds to u^{n+1} (the semi-implicit one's correction)
   void move_disks();
   ProjectionReport last_projection_;
   double speed_excess_time_ = 0;  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)

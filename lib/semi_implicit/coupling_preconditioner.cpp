@@ -110,7 +110,7 @@ Eigen::VectorXd CouplingPreconditioner::apply(const Eigen::VectorXd& v, const st
   for (int c = 0; c < int(blocks_.size()); ++c) {
     const Eigen::Index n = offset[c + 1] - offset[c];
     if (several_) {
-      // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (bf16_lu_solve.hpp).
+      // x = B⁻¹ v: P B = L U, so L y = P v (unit diagonal), then U x = y (detail/bf16_lu_solve.hpp).
       // Turned blocks: x = R B⁻¹ Rᵀ v, node by node (see the header).
       const Block& b = blocks_[c];
       const int m = int(n);

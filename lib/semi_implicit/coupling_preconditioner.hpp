@@ -13,7 +13,7 @@
 // Several cells (or a fluid made uneven by obstacles or disks): the blocks only precondition, so
 //   - they are built from M̄, M averaged over the cell's phase on the grid along x1
 //     (StepMobility::phase_averaged_matrix), which a cell carried by the flow keeps;
-//   - they are factored in single precision and stored in bfloat16 (bf16_lu_solve.hpp);
+//   - they are factored in single precision and stored in bfloat16 (detail/bf16_lu_solve.hpp);
 //   - they are rebuilt every refresh_steps() steps, at most kBlockRefreshSteps: the interval halves
 //     after a step that needed more than kRebuildAboveIterations GMRES iterations or fresh blocks
 //     (then rebuilt at the next step), and grows back by one at each rebuild that was due;
@@ -83,7 +83,7 @@ class CouplingPreconditioner {
   struct Block {
     Eigen::PartialPivLU<Eigen::MatrixXd> lu;  // one cell: its whole system, in double
     // Several cells: P B = L U in single precision, L and U in bfloat16 in the order the sweep
-    // reads them (bf16_lu_solve.hpp), 1/U_ii in float and P as indices.
+    // reads them (detail/bf16_lu_solve.hpp), 1/U_ii in float and P as indices.
     std::vector<std::uint16_t> lu_bf16;
     std::vector<float> inverse_diagonal;
     std::vector<int> permutation;  // row i of P B is row permutation[i] of B

@@ -72,6 +72,7 @@ Eigen::VectorXd SemiImplicitMembraneStep::apply_full(const std::vector<Cell>& ce
   // the mesh, or at the footprint only (footprint_, see predict).
   if (int(responses_.size()) <= products_in_step_) responses_.emplace_back(mesh_);
   VelocityField& response = responses_[products_in_step_++];
+  part.restart();  // (the field's first allocation counted in no part)
   products_->response(response);
   part.lap(cost_.product_solve);
   if (project_at_footprint_)

@@ -62,6 +62,7 @@
 #include "semi_implicit/detail/parallel_spreading.hpp"
 #include "immersed_boundary/explicit_coupling.hpp"
 #include "immersed_boundary/immersed_boundary.hpp"
+#include "immersed_boundary/membrane_coupling.hpp"
 #include "semi_implicit/step_mobility.hpp"
 #include "membrane/membrane_stiffness.hpp"
 
@@ -92,7 +93,7 @@ struct CouplingOptions {
 // (summary.json records it; --reuse compares it).
 std::string describe(const CouplingOptions& options);
 
-class SemiImplicitMembraneStep : public MembraneCoupling {
+class SemiImplicitMembraneStep final : public MembraneCoupling {
  public:
   using Start = CouplingOptions::Start;
   // tolerance: relative residual of the cell-to-cell GMRES solve (several cells).

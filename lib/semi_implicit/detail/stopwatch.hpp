@@ -1,7 +1,7 @@
 #pragma once
 // Wall-clock accounting for the semi-implicit coupling's cost breakdown (SemiImplicitMembraneStep::Cost,
 // read by bench/bench_channel.cpp): not part of the method. lap(into) adds the seconds since the
-// watch started or last lapped to `into`, and starts again.
+// watch started, restarted or last lapped to `into`, and starts again.
 #include <chrono>
 
 namespace rbc::detail {
@@ -9,6 +9,7 @@ namespace rbc::detail {
 class Stopwatch {
  public:
   double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
+  void restart() { start_ = clock::now(); }
   void lap(double& into) {
     const clock::time_point now = clock::now();
     into += std::chrono::duration<double>(now - start_).count();
