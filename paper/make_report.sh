@@ -349,7 +349,7 @@ collect_one() {  # exp
   return $status
 }
 export -f collect_one log
-export report kept sections movie_experiments
+export report kept sections movie_experiments jobs_file
 status=0
 [ "${#run_list[@]}" -gt 0 ] && { printf '%s\n' "${run_list[@]}" | parallel --will-cite -j "$JOBS" --line-buffer collect_one || status=1; }
 declare -A exp_wall
