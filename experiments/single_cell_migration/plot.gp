@@ -91,7 +91,7 @@ set size noratio
 conv = dir.'/convergence.csv'
 if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set output figdir.'/single_cell_migration_work_precision.png'
-  set terminal pngcairo size 800,560 font ',11'
+  set terminal pngcairo size 1050,560 font ',11'
   set datafile separator ','
   set datafile columnheaders
   set size noratio
@@ -104,7 +104,7 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   set title sprintf('Error of the centroid height at %s against wall time (narrow channel, one thread)', '0.25 ms')
   set xlabel 'wall time of the run (s)'
   set ylabel '|y - y_{finest}| (um)'
-  set key bottom left
+  set key outside right top
   sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s)' %s", c, h, conv)
   plot for [h in "0.5 0.25 0.125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 7 title 'explicit, h = '.h.' um', \
        for [h in "0.5 0.25 0.125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
