@@ -12,6 +12,7 @@
 
 #include "io/csv.hpp"
 #include "mesh/channel_mesh.hpp"
+#include "reference/uncertainty.hpp"
 
 namespace rbc::case_runner {
 
@@ -68,7 +69,7 @@ std::vector<Eigen::Vector2d> richardson_centroids(const std::vector<Eigen::Vecto
   for (std::size_t b = 0; b < fine.size() && b < coarse.size(); ++b) {
     Eigen::Vector2d c = coarse[b];
     c.x() = fine[b].x() + nearest_image(c.x() - fine[b].x(), L);
-    r.push_back(2 * fine[b] - c);
+    r.emplace_back(richardson_extrapolate(fine[b].x(), c.x(), 2, 1), richardson_extrapolate(fine[b].y(), c.y(), 2, 1));
   }
   return r;
 }

@@ -18,6 +18,7 @@
 //                  the work-precision study (error against run time): the RMS distance of the
 //                  bodies' centroids from a reference run's, and the table and csv of the runs.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -80,6 +81,10 @@ std::string num(double v);
 // x2 part; a and ref hold the same bodies in the same order. Returns {total, x2}.
 std::pair<double, double> centroid_error(const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& ref, double L);
 
+// Two runs a Richardson extrapolation in Δt combines: the same h (m), the coarse Δt twice the fine (s).
+inline bool halving_pair(double fine_h, double fine_dt, double coarse_h, double coarse_dt) {
+  return coarse_h == fine_h && std::abs(coarse_dt / fine_dt - 2) < 1e-9;
+}
 // Richardson extrapolation in Δt (first order) of the bodies' centroids from runs at Δt (fine) and
 // 2Δt (coarse): 2 c(Δt) − c(2Δt) body by body, the coarse x1 taken to the image nearest the fine
 // one (channel length L); fine and coarse hold the same bodies in the same order.

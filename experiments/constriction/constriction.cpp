@@ -101,6 +101,7 @@ void convergence_study(const Params& p, Results& res) {
   for (const auto& r : res.convergence)
     if (r.coupling == "explicit" && r.failure.empty() && (!ref || r.h < ref->h || (r.h == ref->h && r.dt < ref->dt))) ref = &r;
   if (!ref) return;
+  const std::size_t ref_index = std::size_t(ref - res.convergence.data());  // (kept by index: runs are added below)
   const double L = 120e-6;
   auto centroids = [](const ConvergenceRun& r) {
     std::vector<Eigen::Vector2d> c;
@@ -113,7 +114,7 @@ void convergence_study(const Params& p, Results& res) {
   std::vector<ConvergenceRun> extrapolated;
   for (const auto& fine : res.convergence)
     for (const auto& coarse : res.convergence)
-      if (&fine != ref && coarse.coupling == fine.coupling && coarse.h == fine.h && std::abs(coarse.dt / fine.dt - 2) < 1e-9 &&
+      if (&fine != ref && coarse.coupling == fine.coupling && case_runner::halving_pair(fine.h, fine.dt, coarse.h, coarse.dt) &&
           fine.failure.empty() && coarse.failure.empty()) {
         ConvergenceRun r = fine;
         r.coupling = fine.coupling + " Richardson";
@@ -125,13 +126,11 @@ void convergence_study(const Params& p, Results& res) {
           r.x.push_back(c.x());
           r.y.push_back(c.y());
         }
-        r.u_wide = 2 * fine.u_wide - coarse.u_wide;
+        r.u_wide = richardson_extrapolate(fine.u_wide, coarse.u_wide, 2, 1);
         extrapolated.push_back(r);
       }
   res.convergence.insert(res.convergence.end(), extrapolated.begin(), extrapolated.end());
-  ref = nullptr;  // (the insertion may have moved the runs)
-  for (const auto& r : res.convergence)
-    if (r.coupling == "explicit" && r.failure.empty() && (!ref || r.h < ref->h || (r.h == ref->h && r.dt < ref->dt))) ref = &r;
+  ref = &res.convergence[ref_index];
   for (auto& r : res.convergence) {
     if (!r.failure.empty()) continue;
     r.error = case_runner::centroid_error(centroids(r), centroids(*ref), L).first;  // RMS over the cells

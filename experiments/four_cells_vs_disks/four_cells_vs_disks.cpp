@@ -742,8 +742,8 @@ std::string convergence_table(const Params& p, const Results& res) {
   for (const Row& fine : runs)
     for (const Row& coarse : runs) {
       const CaseResult &f = *fine.r, &c = *coarse.r;
-      if (fine.r == ref_cells || fine.r == ref_disks || coarse.kind != fine.kind || c.spec.h != f.spec.h || std::abs(c.spec.dt / f.spec.dt - 2) > 1e-9 || !f.failure.empty() ||
-          !c.failure.empty())
+      if (fine.r == ref_cells || fine.r == ref_disks || coarse.kind != fine.kind ||
+          !case_runner::halving_pair(f.spec.h, f.spec.dt, c.spec.h, c.spec.dt) || !f.failure.empty() || !c.failure.empty())
         continue;
       const CaseResult* ref = fine.kind == "disks" ? ref_disks : ref_cells;
       case_runner::ConvergenceRow row{.kind = fine.kind + " Richardson", .h = f.spec.h, .dt = f.spec.dt,

@@ -141,11 +141,11 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
   std::vector<ConvergenceRun> extrapolated;
   for (const auto& fine : res.convergence)
     for (const auto& coarse : res.convergence)
-      if (&fine != ref && coarse.coupling == fine.coupling && coarse.h == fine.h && std::abs(coarse.dt / fine.dt - 2) < 1e-9)
+      if (&fine != ref && coarse.coupling == fine.coupling && case_runner::halving_pair(fine.h, fine.dt, coarse.h, coarse.dt))
         extrapolated.push_back({fine.coupling + " Richardson", fine.h, fine.dt, fine.steps + coarse.steps,
-                                fine.wall_seconds + coarse.wall_seconds, 2 * fine.y - coarse.y, 0});
+                                fine.wall_seconds + coarse.wall_seconds, richardson_extrapolate(fine.y, coarse.y, 2, 1), 0});
+  ref = nullptr;  // (the insertion below may move the runs: y_ref, h_ref, dt_ref hold its values)
   res.convergence.insert(res.convergence.end(), extrapolated.begin(), extrapolated.end());
-  ref = nullptr;  // (the insertion may have moved the runs: y_ref, h_ref, dt_ref hold its values)
   for (auto& r : res.convergence) r.error = std::abs(r.y - y_ref);
   std::ofstream csv(fs::path(p.out_dir) / "convergence.csv");
   csv << "coupling,h_um,dt_s,steps,wall_seconds,y_um,error_um\n";

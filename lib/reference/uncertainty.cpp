@@ -309,12 +309,12 @@ std::optional<RichardsonEstimate> richardson(const RefinementUncertainty& r) {
   if (!std::all_of(f.begin(), f.end(), [](double v) { return std::isfinite(v); })) return std::nullopt;
   if (r.fit == RefinementFit::Noise || r.fit == RefinementFit::Constant) return std::nullopt;
   if (f.size() >= 3 && r.safety_factor != 1.25) return std::nullopt;  // outside the asymptotic range
-  const double c = std::pow(r.ratio, r.formal_order) - 1;
   RichardsonEstimate e;
-  e.value = f[0] + (f[0] - f[1]) / c;
+  e.value = richardson_extrapolate(f[0], f[1], r.ratio, r.formal_order);
   // (and at least its distance to the estimator's own limit: an observed order below q leaves
   // more than the formal extrapolation removes)
-  if (f.size() >= 3) e.u = std::max(1.25 * std::abs(e.value - (f[1] + (f[1] - f[2]) / c)), std::abs(e.value - r.extrapolated));
+  if (f.size() >= 3)
+    e.u = std::max(1.25 * std::abs(e.value - richardson_extrapolate(f[1], f[2], r.ratio, r.formal_order)), std::abs(e.value - r.extrapolated));
   return e;
 }
 

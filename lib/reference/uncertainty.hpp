@@ -115,6 +115,10 @@ RefinementUncertainty grid_convergence_index(const std::vector<double>& finest_f
 // order; where the observed order is below q the fit's limit lies further, and U_R reaches it);
 // NaN with two levels. None for a sequence outside its asymptotic range, scattered, noise, or
 // one given a spread of starts s (a chaotic quantity: the crowds, the four cells).
+// The extrapolation itself, of two levels r apart at order q: φ_f + (φ_f − φ_c)/(r^q − 1).
+inline double richardson_extrapolate(double fine, double coarse, double ratio, double order) {
+  return fine + (fine - coarse) / (std::pow(ratio, order) - 1);
+}
 struct RichardsonEstimate {
   double value = NAN;  // φ_R, in the value's unit
   double u = NAN;      // U_R at 95 % (NaN: two levels, no U of its own)
