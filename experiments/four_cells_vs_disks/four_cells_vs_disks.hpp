@@ -43,6 +43,8 @@
 //   kb1_seed<s>_dt<l>us, kb1000_seed<s>_dt<l>us  paired seeds: the ensemble's starts (s = 1..5)
 //                                             at each Δt level l = 3, 1.5, 0.75 us
 //   kb1_explicit                              the study's explicit scheme, to kExplicitEnd
+//   kb1_inc_dt<l>us                           the k_b cells in the incremental pressure form
+//                                             (kIncrementalDts), beside the study's form
 //   pg2002_h*_dt*                             one disk against Pan & Glowinski (2002): the
 //                                             validation of our disks over Δt and h
 //
@@ -93,6 +95,10 @@ inline const std::vector<double> kPairedDts = {0.75e-6, 1.5e-6, 3e-6};
 // one-cell stability limit at this h (8e-8 s: stability_map), and its end, s: the study's 200 ms
 // (3.3 million steps, about 70 min on one core; its first 50 ms are the trajectory compared).
 inline constexpr double kExplicitDt = 6e-8, kExplicitEnd = 0.2;
+// The k_b cells by the semi-implicit coupling in the incremental form of the pressure
+// (kb1_inc_dt<l>us, the study's places, to 200 ms): the Δt levels, s, coarsest first. Beside the
+// study's form and the explicit run: which form's Δt error is the smaller on these cells.
+inline const std::vector<double> kIncrementalDts = {6e-6, 3e-6, 1.5e-6};
 
 struct Case {
   std::string name;
@@ -102,6 +108,7 @@ struct Case {
   unsigned seed = 0;           // 0: the study's places
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's
   std::string coupling;        // empty: the scene file's
+  std::string projection;      // the pressure's form ("study", "incremental"); empty: the scene file's
   std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
   bool reported = false;       // the run the study's rows and figures read: the case's finest Δt
 };
