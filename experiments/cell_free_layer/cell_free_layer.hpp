@@ -108,7 +108,7 @@ inline constexpr double kWideGapMargin = 2.25e-6;
 // (early_layer_table; there also the 50 cells' 1.2 ms runs of both couplings).
 inline constexpr double kExplicitDt = 5e-8, kEarlyFrom = 2e-3, kEarlyEnd = 20e-3;
 // The pressure forms' Δt ladder to kEarlyEnd (n100_early_*), s, finest first.
-inline const std::vector<double> kFormDts = {0.375e-6, 0.75e-6, 1.5e-6, 3e-6};
+inline const std::vector<double> kFormDts = {0.1875e-6, 0.375e-6, 0.75e-6, 1.5e-6, 3e-6};
 
 struct Case {
   std::string name;
