@@ -2,13 +2,14 @@
 // committed regression record, the scenes it builds, and its cases run through GNU parallel.
 #include <gtest/gtest.h>
 
-#include <set>
-
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -92,7 +93,8 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
     }
     EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
     EXPECT_TRUE(s.cells.empty() || s.disks.empty()) << c.name;  // a scene builds only what it uses
-    EXPECT_EQ(s.projection, "study") << c.name;                  // disks need the study's form
+    // Disks need the study's form; the k_b cells' incremental-form ladder alone takes the other.
+    EXPECT_EQ(s.projection, c.name.rfind("kb1_inc_dt", 0) == 0 ? "incremental" : "study") << c.name;
     if (c.role != "study") continue;
     ++study;
     EXPECT_EQ(s.mesh_size, 0.3125e-6);
@@ -108,6 +110,18 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   // Every study case has its Δt sequence (u_num's Δt part): 6, 3 and 1.5 us.
   for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"})
     for (const char* suffix : {"", "_dt3us", "_dt1.5us"}) EXPECT_TRUE(names.count(std::string(base) + suffix)) << base << suffix;
+  // The incremental form's ladder: the k_b cells from the study's places at each of its Δt.
+  for (double dt : kIncrementalDts) {
+    char name[32];
+    std::snprintf(name, sizeof name, "kb1_inc_dt%gus", dt * 1e6);
+    const auto it = std::find_if(all.begin(), all.end(), [&](const Case& x) { return x.name == name; });
+    ASSERT_NE(it, all.end()) << name;
+    const Scene s = case_scene(*it, false);
+    EXPECT_EQ(s.dt, dt) << name;
+    EXPECT_EQ(s.cells.size(), 4u) << name;
+    EXPECT_EQ(s.cells[0].kb_scale, 1.0) << name;
+    EXPECT_EQ(s.cells[0].center.x(), kPlaces[0][0]) << name;
+  }
   // A perturbed start moves every centre, by at most kPerturbation in each direction.
   Case c;
   c.name = "kb1_seed1";
