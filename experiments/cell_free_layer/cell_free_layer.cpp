@@ -9,6 +9,7 @@
 #include <numeric>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 
@@ -413,7 +414,8 @@ std::string ensemble_table(const Params& p, const Results& res) {
 // kFormDts to kEarlyEnd, and the study's own scheme (n100_explicit_early) beside them: the layer
 // and Re, each the mean over [kEarlyFrom, kEarlyEnd] (Re also over the last ms, the rows'
 // window, which the crowd's fluctuation dominates), their difference at each Δt, and each form's
-// Δt -> 0 limit by the least-squares estimator (every level, first order): does the study's form
+// Δt -> 0 limit by the least-squares estimator (its consecutive finished levels, at least three,
+// first order): does the study's form
 // converge to the other's answer, and both to the study's scheme's?
 std::string form_table(const Results& res) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
@@ -422,6 +424,7 @@ std::string form_table(const Results& res) {
   std::ostringstream md;
   bool any = false;
   std::map<std::string, std::vector<double>> layers, res_;
+  std::map<std::string, bool> gap;  // a level missing after the form's finest finished one
   for (double dt : kFormDts) {
     const std::string a = form_case_name("study", dt), b = form_case_name("incremental", dt);
     if (!ok(a) && !ok(b)) continue;
@@ -435,8 +438,15 @@ std::string form_table(const Results& res) {
     const double la = ok(a) ? layer(res.cases.at(a)) : NAN, lb = ok(b) ? layer(res.cases.at(b)) : NAN;
     const double ra = ok(a) ? re_mean(res.cases.at(a)) : NAN, rb = ok(b) ? re_mean(res.cases.at(b)) : NAN;
     const double last = ok(a) && ok(b) ? res.cases.at(a).re - res.cases.at(b).re : NAN;
-    if (ok(a)) { layers["study"].push_back(la); res_["study"].push_back(ra); }
-    if (ok(b)) { layers["inc"].push_back(lb); res_["inc"].push_back(rb); }
+    // Each form's levels for its limit: consecutive ones from its finest finished level (ratio 2).
+    for (const auto& [form, done, l, r] : {std::tuple{"study", ok(a), la, ra}, std::tuple{"inc", ok(b), lb, rb}}) {
+      if (done && !gap[form]) {
+        layers[form].push_back(l);
+        res_[form].push_back(r);
+      } else if (!done && !layers[form].empty()) {
+        gap[form] = true;
+      }
+    }
     char row[400];
     std::snprintf(row, sizeof row, "| %g | %s | %s | %s | %s | %s | %s | %s |\n", dt * 1e6, shown(la, "%.3f").c_str(), shown(lb, "%.3f").c_str(),
                   shown(la - lb, "%+.3f").c_str(), shown(ra, "%.4f").c_str(), shown(rb, "%.4f").c_str(), shown(ra - rb, "%+.4f").c_str(),
@@ -459,10 +469,11 @@ std::string form_table(const Results& res) {
                     sample_std(in->second));
       md << line;
     }
-  // Each form's limit, where all levels finished (finest first, ratio 2, formal order 1).
+  // Each form's limit over its consecutive finished levels, at least three (finest first, ratio 2,
+  // formal order 1).
   for (const auto& [what, by_form] : {std::pair{"layer (um)", &layers}, std::pair{"Re", &res_}}) {
     const auto& st = by_form->find("study"), & in = by_form->find("inc");
-    if (st == by_form->end() || in == by_form->end() || st->second.size() < kFormDts.size() || in->second.size() < kFormDts.size()) continue;
+    if (st == by_form->end() || in == by_form->end() || st->second.size() < 3 || in->second.size() < 3) continue;
     const RefinementUncertainty us = grid_convergence_index(st->second, 2.0, 1.0), ui = grid_convergence_index(in->second, 2.0, 1.0);
     const double gap = us.extrapolated - ui.extrapolated, reach = std::hypot(us.u, ui.u);
     char line[500];
@@ -474,6 +485,15 @@ std::string form_table(const Results& res) {
                                          : "beyond their combined U: the two forms do not reach one answer at these dt",
                   reach, st->second.front() - in->second.front(), st->second.back() - in->second.back());
     md << line;
+    if (ok("n100_explicit_early")) {  // the study's own scheme: the answer both should reach
+      const CaseResult& e = res.cases.at("n100_explicit_early");
+      const double ref = what == std::string("Re") ? re_mean(e) : layer(e);
+      std::snprintf(line, sizeof line,
+                    "The study's scheme (n100_explicit_early) %.4g: the study's form's limit %+.3g from it (U %.2g), the incremental "
+                    "form's %+.3g (U %.2g); the finest runs %+.3g and %+.3g.\n",
+                    ref, us.extrapolated - ref, us.u, ui.extrapolated - ref, ui.u, st->second.front() - ref, in->second.front() - ref);
+      md << line;
+    }
   }
   return md.str();
 }
