@@ -427,18 +427,10 @@ std::string form_table(const Results& res) {
   std::map<std::string, bool> gap;  // a level missing after the form's finest finished one
   for (double dt : kFormDts) {
     const std::string a = form_case_name("study", dt), b = form_case_name("incremental", dt);
-    if (!ok(a) && !ok(b)) continue;
-    if (!any)
-      md << "\nThe study's form of the pressure against the incremental form (100 cells, seed 1, h = 0.3125 um, from rest to " << kEarlyEnd * 1e3
-         << " ms): the layer (mean of the walls, um) and Re, each the mean over " << kEarlyFrom * 1e3 << "-" << kEarlyEnd * 1e3
-         << " ms; and the difference of Re over the last ms alone (the rows' window, where the crowd's fluctuation dominates):\n\n"
-            "| dt (us) | layer, study's p | layer, incremental p | study − incremental | Re, study's p | Re, incremental p | study − incremental | "
-            "study − incremental, Re over the last ms |\n|---|---|---|---|---|---|---|---|\n";
-    any = true;
     const double la = ok(a) ? layer(res.cases.at(a)) : NAN, lb = ok(b) ? layer(res.cases.at(b)) : NAN;
     const double ra = ok(a) ? re_mean(res.cases.at(a)) : NAN, rb = ok(b) ? re_mean(res.cases.at(b)) : NAN;
-    const double last = ok(a) && ok(b) ? res.cases.at(a).re - res.cases.at(b).re : NAN;
-    // Each form's levels for its limit: consecutive ones from its finest finished level (ratio 2).
+    // Each form's levels for its limit: consecutive ones from its finest finished level (ratio 2),
+    // so a level missing after it closes the form's sequence (also when both forms miss it).
     for (const auto& [form, done, l, r] : {std::tuple{"study", ok(a), la, ra}, std::tuple{"inc", ok(b), lb, rb}}) {
       if (done && !gap[form]) {
         layers[form].push_back(l);
@@ -447,6 +439,15 @@ std::string form_table(const Results& res) {
         gap[form] = true;
       }
     }
+    if (!ok(a) && !ok(b)) continue;
+    if (!any)
+      md << "\nThe study's form of the pressure against the incremental form (100 cells, seed 1, h = 0.3125 um, from rest to " << kEarlyEnd * 1e3
+         << " ms): the layer (mean of the walls, um) and Re, each the mean over " << kEarlyFrom * 1e3 << "-" << kEarlyEnd * 1e3
+         << " ms; and the difference of Re over the last ms alone (the rows' window, where the crowd's fluctuation dominates):\n\n"
+            "| dt (us) | layer, study's p | layer, incremental p | study − incremental | Re, study's p | Re, incremental p | study − incremental | "
+            "study − incremental, Re over the last ms |\n|---|---|---|---|---|---|---|---|\n";
+    any = true;
+    const double last = ok(a) && ok(b) ? res.cases.at(a).re - res.cases.at(b).re : NAN;
     char row[400];
     std::snprintf(row, sizeof row, "| %g | %s | %s | %s | %s | %s | %s | %s |\n", dt * 1e6, shown(la, "%.3f").c_str(), shown(lb, "%.3f").c_str(),
                   shown(la - lb, "%+.3f").c_str(), shown(ra, "%.4f").c_str(), shown(rb, "%.4f").c_str(), shown(ra - rb, "%+.4f").c_str(),
