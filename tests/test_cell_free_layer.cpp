@@ -230,6 +230,44 @@ TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
   EXPECT_EQ(md.find("| 100 | semi-implicit, study's p | 1.5 |"), std::string::npos) << md;
 }
 
+// The pressure forms' table: each form's limit from its levels (exactly first order here) and its
+// distance from the study's scheme; a level that both forms miss ends each form's sequence, so no
+// limit is drawn from levels that are not halvings of one another.
+TEST(CellFreeLayerExperiment, FormTableFitsEachFormsConsecutiveLevelsAgainstTheStudysScheme) {
+  Results res;
+  EXPECT_EQ(form_table(res), "");
+  auto put = [&](const std::string& name, double layer_um, double re) {
+    CaseResult r;
+    for (double t = 0; t <= kEarlyEnd + 1e-12; t += 1e-4) {
+      r.t.push_back(t);
+      r.gap_lower.push_back((layer_um - 0.25) * 1e-6);  // the mean of the walls is layer_um
+      r.gap_upper.push_back((layer_um + 0.25) * 1e-6);
+      r.reynolds.push_back(re);
+    }
+    r.re = re;
+    res.cases[name] = r;
+  };
+  for (double dt : {0.375e-6, 0.75e-6, 1.5e-6, 3e-6}) {
+    const double us = dt * 1e6;
+    put(form_case_name("study", dt), 1.5 - 0.2 * us, 1.34 - 0.02 * us);
+    put(form_case_name("incremental", dt), 1.6 + 0.01 * us, 1.35 + 0.001 * us);
+  }
+  put("n100_explicit_early", 1.5, 1.34);
+  std::string md = form_table(res);
+  EXPECT_NE(md.find("| 3 | 0.900 | 1.630 | -0.730 | 1.2800 | 1.3530 | -0.0730 | -0.0730 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| explicit, 0.05 (the study's scheme) | 1.500 | | | 1.3400 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("layer (um) as dt -> 0: the study's form 1.5 ("), std::string::npos) << md;
+  EXPECT_NE(md.find("the incremental form 1.6 ("), std::string::npos) << md;
+  EXPECT_NE(md.find("Re as dt -> 0: the study's form 1.34 ("), std::string::npos) << md;
+  EXPECT_NE(md.find("The study's scheme (n100_explicit_early) 1.5: "), std::string::npos) << md;
+  // Both forms miss 0.75 us: 0.375 us alone is consecutive from the finest, too few for a limit.
+  res.cases.erase(form_case_name("study", 0.75e-6));
+  res.cases.erase(form_case_name("incremental", 0.75e-6));
+  md = form_table(res);
+  EXPECT_NE(md.find("| 3 | 0.900 |"), std::string::npos) << md;
+  EXPECT_EQ(md.find("as dt -> 0"), std::string::npos) << md;
+}
+
 // The work-precision table's CSV is split at commas by plot.gp (awk -F,): a kind with a comma is
 // refused, and the kinds this experiment writes have eight fields a line.
 TEST(CellFreeLayerExperiment, ConvergenceCsvKeepsItsColumns) {

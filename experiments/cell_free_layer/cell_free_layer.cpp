@@ -117,14 +117,13 @@ Scene case_scene(const Case& c, bool quick) {
   return s;
 }
 
-namespace {
-
-// The pressure forms' ladder: a case's name (projection "study" or "incremental").
 std::string form_case_name(const std::string& projection, double dt) {
   char b[64];
   std::snprintf(b, sizeof b, "n100_early_%s_dt%gus", projection == "study" ? "study" : "inc", dt * 1e6);
   return b;
 }
+
+namespace {
 
 // The layer (mean of the walls' gaps) at each sample of a run, um.
 std::vector<double> layer_series_um(const CaseResult& c) {

@@ -181,6 +181,12 @@ std::string ensemble_table(const Params& p, const Results& res);
 // cells) and over [kEarlyFrom, kEarlyEnd] (100 cells), for the explicit coupling and the
 // semi-implicit one at each Δt; empty if none of those runs is in. Public for its test.
 std::string early_layer_table(const Results& res);
+// The study's form of the pressure against the incremental one (Markdown): the 100 cells' layer
+// and Re over [kEarlyFrom, kEarlyEnd] at each of kFormDts, the study's scheme (n100_explicit_early)
+// beside them, and each form's Δt -> 0 limit over its consecutive finished levels (at least three).
+std::string form_table(const Results& res);
+// The pressure forms' ladder: a case's name at Δt dt, s (projection "study" or "incremental").
+std::string form_case_name(const std::string& projection, double dt);
 
 // The time-averaged area fraction of the membranes in snapshots.dat over t ≥ from, on bins of
 // width dy across 0 < x2 < H (bin centres in y, fractions 0..1); channel length L. Public for the
