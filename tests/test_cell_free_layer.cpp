@@ -202,18 +202,24 @@ TEST(CellFreeLayerExperiment, EnsembleTableShowsTheSpreadAndTheEvidenceRunsChang
 
 // The early-layer table averages the two walls' gaps over its windows, leaves out runs that
 // stopped or ended before a window's end, and is empty without any of its runs.
+// A run sampled every 0.1 ms from 0 to `end` (s) whose mean of the two walls' gaps is gap_um
+// (um) throughout, at Reynolds number re.
+CaseResult steady_run(double end, double gap_um, double re = 0) {
+  CaseResult r;
+  for (double t = 0; t <= end + 1e-12; t += 1e-4) {
+    r.t.push_back(t);
+    r.gap_lower.push_back((gap_um - 0.5) * 1e-6);
+    r.gap_upper.push_back((gap_um + 0.5) * 1e-6);
+    r.reynolds.push_back(re);
+  }
+  r.re = re;
+  return r;
+}
+
 TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
   Results res;
   EXPECT_EQ(early_layer_table(res), "");
-  auto put = [&](const std::string& name, double end, double gap_um) {
-    CaseResult r;
-    for (double t = 0; t <= end + 1e-12; t += 1e-4) {
-      r.t.push_back(t);
-      r.gap_lower.push_back((gap_um - 0.5) * 1e-6);  // the mean of the walls is gap_um
-      r.gap_upper.push_back((gap_um + 0.5) * 1e-6);
-    }
-    res.cases[name] = r;
-  };
+  auto put = [&](const std::string& name, double end, double gap_um) { res.cases[name] = steady_run(end, gap_um); };
   put("n100_explicit_early", kEarlyEnd, 2.0);
   put("n100", 0.2, 0.5);
   put("n100_dt1.5us", 1.5e-3, 1.0);  // ended before the second window: "-" there
@@ -236,17 +242,7 @@ TEST(CellFreeLayerExperiment, EarlyLayerTableAveragesTheWallsOverItsWindows) {
 TEST(CellFreeLayerExperiment, FormTableFitsEachFormsConsecutiveLevelsAgainstTheStudysScheme) {
   Results res;
   EXPECT_EQ(form_table(res), "");
-  auto put = [&](const std::string& name, double layer_um, double re) {
-    CaseResult r;
-    for (double t = 0; t <= kEarlyEnd + 1e-12; t += 1e-4) {
-      r.t.push_back(t);
-      r.gap_lower.push_back((layer_um - 0.25) * 1e-6);  // the mean of the walls is layer_um
-      r.gap_upper.push_back((layer_um + 0.25) * 1e-6);
-      r.reynolds.push_back(re);
-    }
-    r.re = re;
-    res.cases[name] = r;
-  };
+  auto put = [&](const std::string& name, double layer_um, double re) { res.cases[name] = steady_run(kEarlyEnd, layer_um, re); };
   for (double dt : {0.375e-6, 0.75e-6, 1.5e-6, 3e-6}) {
     const double us = dt * 1e6;
     put(form_case_name("study", dt), 1.5 - 0.2 * us, 1.34 - 0.02 * us);
