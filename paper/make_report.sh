@@ -283,9 +283,11 @@ collect_one() {  # exp
   fi
   mkdir -p "$report/data/$exp"
   [ -f "$dir/check.csv" ] && cp "$dir/check.csv" "$report/data/$exp/check.csv"
-  # Each case's run time, for the next run's order and estimates.
+  # Each case's run time, for the next run's order and estimates; not the kept runs put in place
+  # (their code_id: another command ran them, on another code).
   if [ -f "$dir/cases.csv" ]; then
-    awk -F, -v e="$exp" 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "wall_seconds") w = i; next} w && $w != "" {print e "," $1 "," $w}' "$dir/cases.csv" > "$dir/case_times.csv"
+    awk -F, -v e="$exp" 'NR == 1 {for (i = 1; i <= NF; i++) if ($i == "wall_seconds") w = i; next} w && $w != "" {print e "," $1 "," $w}' "$dir/cases.csv" |
+      while IFS=, read -r e name s; do [ -f "$dir/$name/code_id" ] || echo "$e,$name,$s"; done > "$dir/case_times.csv"
   else  # (channel_flow, constriction, stability_map): each case's own wall time (its summary.json,
     # resumed sessions included), else (a stability map's point) its job's, when it computed rather
     # than read back

@@ -73,6 +73,59 @@ TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseCo
   EXPECT_EQ(cases(quick).size(), all_quick.size());
 }
 
+// The k_b row from its paired starts (the study's places and seeds 1-5 at 0.75, 1.5 and 3 us, no
+// 6 us ensemble): the Δt part fits the six starts' level means, the start spread is the one at the
+// reported run's level (1.5 us), and nothing is missing, so the row's u_num is measured, not
+// recorded. Without the paired starts the same cases leave the start ensemble missing.
+TEST(FourCellsVsDisksExperiment, PairedStartsGiveTheRowsDtPartAndItsStartSpread) {
+  Params p;
+  p.out_dir = (fs::temp_directory_path() / "rbcflow_paired_row_none").string();  // no series: no window part
+  Results res;
+  const std::vector<double> offsets = {0.0, 0.02, -0.01, 0.015, -0.03, 0.005};  // um, start s = 0..5
+  const std::vector<double> level_mean = {9.10, 9.15, 9.20};                     // um at kPairedDts
+  const std::vector<double> level_scale = {1.0, 1.0, 4.0};                       // the 3 us level's starts spread more
+  for (std::size_t l = 0; l < kPairedDts.size(); ++l)
+    for (unsigned s = 0; s < offsets.size(); ++s) {
+      CaseResult c;
+      char name[64];
+      if (s == 0)
+        std::snprintf(name, sizeof name, "kb1_dt%gus", kPairedDts[l] * 1e6);
+      else
+        std::snprintf(name, sizeof name, "kb1_seed%u_dt%gus", s, kPairedDts[l] * 1e6);
+      c.spec.name = name;
+      c.dt = kPairedDts[l];
+      c.h = 0.3125e-6;
+      c.distance = (level_mean[l] + level_scale[l] * offsets[s]) * 1e-6;
+      c.reynolds = 2.71;
+      res.cases[name] = c;
+    }
+  const Measured m = row_with_uncertainty(p, res, "kb1", false, "");
+  ASSERT_TRUE(m.value);
+  EXPECT_NEAR(*m.value, 9.15, 1e-9);  // the reported run: the study's places at 1.5 us
+  ASSERT_TRUE(m.u.dt);
+  EXPECT_EQ(m.u.dt->values.size(), 3u);
+  ASSERT_TRUE(m.u.ensemble);
+  EXPECT_NEAR(*m.u.ensemble, sample_std(offsets), 1e-9);  // the 1.5 us level's spread, not the 3 us one's
+  EXPECT_EQ(m.u.members, 6);
+  EXPECT_TRUE(m.u.missing.empty()) << m.u.missing;
+  EXPECT_TRUE(m.u.total());
+  // Seed 5 missing at one level: no paired starts beyond the finished ones; with four of five seeds
+  // the pairing still holds.
+  res.cases.erase("kb1_seed5_dt3us");
+  const Measured four = row_with_uncertainty(p, res, "kb1", false, "");
+  EXPECT_EQ(four.u.members, 5);
+  // Only the study's places: the 6 us ensemble is what is left, and it is missing.
+  for (unsigned s = 1; s <= 5; ++s)
+    for (double dt : kPairedDts) {
+      char name[64];
+      std::snprintf(name, sizeof name, "kb1_seed%u_dt%gus", s, dt * 1e6);
+      res.cases.erase(name);
+    }
+  const Measured alone = row_with_uncertainty(p, res, "kb1", false, "");
+  EXPECT_FALSE(alone.u.ensemble);
+  EXPECT_NE(alone.u.missing.find("start ensemble"), std::string::npos) << alone.u.missing;
+}
+
 TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   Params p;
   const auto all = cases(p);

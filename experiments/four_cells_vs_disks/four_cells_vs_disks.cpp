@@ -457,10 +457,14 @@ PairedLevels paired_levels(const Params& p, const Results& res, const std::strin
   return v;
 }
 
+}  // namespace
+
 // A distance (um) or Re row with its u_num: the Δt part (GCI over the finest three levels
 // that finished, first order), the start ensemble's spread (the k_b cells' or the disks' members
 // at 6 us, for every cell case), the window noise of the reported run (the last 5 windows of 1 ms);
-// the h column from the 2h run of the k_b cells or the disks (second order in h).
+// the h column from the 2h run of the k_b cells or the disks (second order in h). Where the case's
+// paired starts finished at every level (kb1, kb1000), they give both the Δt part (their level
+// means) and the start spread (theirs at the reported run's level, with the same Δt error).
 Measured row_with_uncertainty(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   const std::string name = reported_case(res, base);
@@ -496,13 +500,16 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
                                            : "";
   const PairedLevels paired = paired_levels(p, res, base, re);
   if (paired.pairs >= 1) {
-    // Paired starts at every level: the level means' steps, their noise the starts' spread over √n.
+    // Paired starts at every level: the level means' steps, their noise the starts' spread over √n;
+    // the start spread the one at the reported run's level.
     std::size_t at = 0;  // the reported run's level (the nearest)
     for (std::size_t l = 1; l < kPairedDts.size(); ++l)
       if (std::abs(kPairedDts[l] - r.dt) < std::abs(kPairedDts[at] - r.dt)) at = l;
     m.u.dt = grid_convergence_index(paired.means, 2.0, 1.0, int(at),
                                     paired.s / std::sqrt(double(paired.pairs + 1)));
     m.u.dt->label = "dt 0.75/1.5/3 us, means of " + std::to_string(paired.pairs + 1) + " paired starts";
+    m.u.ensemble = sample_std(paired.values[at]);
+    m.u.members = paired.values[at].size();
   } else if (seq.size() >= 2) {
     // The start ensemble's spread tells the Δt fit which level differences are noise.
     m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported, m.u.ensemble.value_or(NAN));
@@ -510,9 +517,10 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
     for (std::size_t k = 0; k < labels.size(); ++k) label += (k ? "/" : " ") + labels[k];
     m.u.dt->label = label + " us";
   }
-  // Missing parts: the Δt sequence (unless the paired starts gave the Δt part), the start ensemble.
-  for (const std::string& part : {paired.pairs >= 1 ? std::string() : dt_missing, ensemble_missing})
-    if (!part.empty()) m.u.missing += (m.u.missing.empty() ? "" : ", ") + part;
+  // Missing parts: the Δt sequence, the start ensemble (none where the paired starts gave both).
+  if (paired.pairs < 1)
+    for (const std::string& part : {dt_missing, ensemble_missing})
+      if (!part.empty()) m.u.missing += (m.u.missing.empty() ? "" : ", ") + part;
   // The window: the row's mean over the last ms, against the 4 ms before.
   if (!r.t.empty()) {
     std::vector<double> v(r.t.size());
@@ -545,6 +553,8 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
   m.how = how;
   return m;
 }
+
+namespace {
 
 // The evidence behind u_num for the report: the start ensembles, every case's Δt
 // sequence with its observed order and GCI, and the study's differences between cases as
