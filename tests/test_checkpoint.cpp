@@ -127,10 +127,11 @@ nlohmann::json summary_without_wall_time(const fs::path& dir) {
   return j;
 }
 
-void expect_interrupted_equals_straight(const std::string& coupling, int cells, bool disk = false) {
+void expect_interrupted_equals_straight(const std::string& coupling, int cells, bool disk = false, const std::string& scheme = "lie") {
   Scene scene = two_cell_scene(coupling, cells);
   if (disk) scene.disks.push_back({{14e-6, 6e-6}, 1.5e-6});  // a rigid disk: its state is in the checkpoint too
-  const std::string tag = coupling + std::to_string(cells) + (disk ? "disk" : "");
+  scene.scheme = scheme;  // the extrapolated scheme: its half-step run's warm starts too
+  const std::string tag = coupling + std::to_string(cells) + (disk ? "disk" : "") + scheme;
   const fs::path straight = fs::temp_directory_path() / ("rbcflow_ckpt_straight_" + tag);
   const fs::path stopped = fs::temp_directory_path() / ("rbcflow_ckpt_stopped_" + tag);
   fs::remove_all(straight);
@@ -173,6 +174,10 @@ TEST(Checkpoint, ExplicitOneCellInterruptedBySigtermAndResumedEqualsTheStraightR
 
 TEST(Checkpoint, SemiImplicitCellAndRigidDiskInterruptedBySigtermAndResumedEqualsTheStraightRun) {
   expect_interrupted_equals_straight("semi-implicit", 1, true);
+}
+
+TEST(Checkpoint, ExtrapolatedSchemeCellAndRigidDiskInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("semi-implicit", 1, true, "lie-extrapolated");
 }
 
 TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {

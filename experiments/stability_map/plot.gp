@@ -1,4 +1,5 @@
-# Stability map: largest stable Δt against k_l and k_b for the map's mesh sizes and both couplings.
+# Stability map: largest stable Δt against k_l and k_b for the map's mesh sizes, both couplings and
+# the semi-implicit one in the extrapolated Lie scheme.
 #   gnuplot -e "dir='results/stability_map'; figdir='paper/report/figures'" experiments/stability_map/plot.gp
 if (!exists("dir")) dir = 'results/stability_map'
 if (!exists("figdir")) figdir = dir
@@ -15,9 +16,11 @@ hs = system(sprintf("awk -F, 'NR > 1 {print $2}' %s/stability_map.csv | sort -gr
 sel(c, h, other) = sprintf("< awk -F, '$1==\"%s\" && $2==%s && $%d==1' %s/stability_map.csv", c, h, other, dir)
 plot for [h in hs] sel("explicit", h, 4) using 3:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
      for [h in hs] sel("semi-implicit", h, 4) using 3:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit-extrapolated", h, 4) using 3:5 with points pt 6 ps 1.6 title 'semi-implicit, extrapolated Lie, h = '.h.' µm', \
      for [h in hs] sel("semi-implicit", h, 4) using 3:7 with lines dt 3 lc rgb 'gray' notitle
 set xlabel 'k_b / 5e-10 (k_l as in the study)'
 plot for [h in hs] sel("explicit", h, 3) using 4:5 with linespoints pt 7 title 'explicit, h = '.h.' µm', \
      for [h in hs] sel("semi-implicit", h, 3) using 4:5 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' µm', \
+     for [h in hs] sel("semi-implicit-extrapolated", h, 3) using 4:5 with points pt 6 ps 1.6 title 'semi-implicit, extrapolated Lie, h = '.h.' µm', \
      for [h in hs] sel("semi-implicit", h, 3) using 4:7 with lines dt 3 lc rgb 'gray' notitle
 unset multiplot

@@ -3,7 +3,8 @@
 //
 // Question: how does the stable Δt depend on the membrane stiffness (k_l × 0.01 … 100,
 // k_b × 1 … 1000) and on the mesh size h, for the study's explicit coupling and for our
-// semi-implicit one; and do the extreme cases run (1000 k_b, 10–100 k_l, Hct 34 %, a cell one mesh
+// semi-implicit one, in the study's Lie scheme and (the semi-implicit one) in its second-order
+// extrapolation; and do the extreme cases run (1000 k_b, 10–100 k_l, Hct 34 %, a cell one mesh
 // cell from a wall, s* = 0.481 through the 15 µm passage, Re0 from 0.01 to 50)?
 //
 // Set-up (our choice; the study has no such test): the narrow channel (20 × 10 µm, Re0 = 0.5556),
@@ -21,11 +22,15 @@
 
 namespace rbc::stability_map {
 
+inline const std::string kExtrapolated = "semi-implicit-extrapolated";
+
 struct Params {
   std::string out_dir = "results/stability_map";
   bool quick = false;
   bool progress = true;
-  std::vector<std::string> couplings = {"explicit", "semi-implicit"};
+  // "semi-implicit-extrapolated": the semi-implicit coupling in the extrapolated Lie scheme
+  // ([time] scheme = "lie-extrapolated", paper/method/07_second_order_in_time.md)
+  std::vector<std::string> couplings = {"explicit", "semi-implicit", kExtrapolated};
   std::vector<double> mesh_sizes = {0.5e-6, 0.25e-6, 0.125e-6};  // h, m
   std::vector<double> kl_scales = {0.01, 0.1, 1, 10, 100};       // k_l / 5e-8, with k_b × 1
   std::vector<double> kb_scales = {10, 100, 1000};                // k_b / 5e-10, with k_l × 1
@@ -36,7 +41,7 @@ struct Params {
   bool reuse = false;         // read a finished map from out_dir instead of recomputing it
   bool resume = false;        // keep the points a stopped map already wrote, compute the rest
   std::string only;           // compute only this case (a name of cases())
-  static Params quick_params();   // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000
+  static Params quick_params();   // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000; the two couplings' Lie scheme
   static Params report_params();  // make reproduce's map: h = 0.5 and 0.25 um (h and h halved), every
                                   // stiffness and extreme case (make evidence adds h = 0.125 um)
 };

@@ -662,6 +662,7 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
   j["dt"] = scene.dt;
   j["coupling"] = scene.coupling;
   j["projection"] = scene.projection;
+  j["scheme"] = scene.scheme;
   if (coupling_by_gmres(scene)) {  // how GMRES solves and its tolerance: they change the bits
     j["coupling_options"] = describe(CouplingOptions{});
     j["coupling_tolerance"] = scene.coupling_tolerance;
@@ -785,9 +786,10 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
   try {
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
     if (!any_code && j.value("code", std::string()) != code_id()) return std::nullopt;  // other code: run again
-    // (A summary without "projection" is older than the incremental form's key: the study's form.)
+    // (A summary without "projection" is older than the incremental form's key: the study's form;
+    // one without "scheme" older than the extrapolated scheme: the study's Lie scheme.)
     if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
-        j.value("projection", std::string("study")) != scene.projection ||
+        j.value("projection", std::string("study")) != scene.projection || j.value("scheme", std::string("lie")) != scene.scheme ||
         std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
     // How the coupling's GMRES solves and where it stops change the run like a start perturbation

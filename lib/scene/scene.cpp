@@ -29,7 +29,7 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> s = {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
-      {"time", {"dt", "end", "coupling", "advection_substeps", "projection"}},
+      {"time", {"dt", "end", "coupling", "advection_substeps", "projection", "scheme"}},
       {"solver", {"pressure_preconditioner", "cg_tolerance", "cg_max_iterations", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
       {"output", {"every", "vtk", "vtk_every", "snapshots", "fields", "frames"}},
       {"contact", {"range", "strength"}},
@@ -393,6 +393,7 @@ void read_flow(const Reader& r, Scene& s) {
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   // The pressure's form: the study's by default, the incremental one with obstacles (below).
   s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
+  s.scheme = r.word("time", "scheme", {"lie", "lie-extrapolated"}, s.scheme);
 }
 
 // [solver]
@@ -701,6 +702,7 @@ std::string scene_to_toml(const Scene& s) {
   o << "wall_velocity = [" << num(s.wall_velocity[0]) << ", " << num(s.wall_velocity[1]) << "]\n";
   o << "[time]\ndt = " << num(s.dt) << "\nend = " << num(s.end) << "\ncoupling = \"" << s.coupling
     << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
+  if (s.scheme != "lie") o << "scheme = \"" << s.scheme << "\"\n";  // (the study's scheme: the line as before it existed)
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
     << "\ncg_max_iterations = " << s.cg_max_iterations << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";

@@ -91,6 +91,10 @@ struct Scene {
   // the last pressure and step 1 finds its increment (ChannelFlowParams::incremental_pressure).
   // A scene file without the key gets "incremental" when it has obstacles.
   std::string projection = "study";
+  // The time integration: "lie", the study's Lie scheme, one step a step (first order);
+  // "lie-extrapolated", each step that Lie step and two of half its Δt, extrapolated
+  // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order; not in the study: paper/method/07_second_order_in_time.md).
+  std::string scheme = "lie";
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;
   int cg_max_iterations = 200;  // the Laplacian preconditioner's CG: a run whose CG stops short of cg_tolerance stops

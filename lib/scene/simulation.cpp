@@ -35,6 +35,14 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
     flow_.diffusion().set_constraint(disk_constraint_.get());
     if (coupling_) coupling_->set_fluid_not_x1_invariant();
   }
+  // The extrapolated scheme's half steps: the same scene at Δt/2, Q kept (every part of the step
+  // refined, the advection's substeps too), run by the study's scheme.
+  if (scene.scheme == "lie-extrapolated") {
+    Scene half = scene;
+    half.scheme = "lie";
+    half.dt = scene.dt / 2;
+    half_step_ = std::make_unique<Simulation>(half, options);
+  }
 }
 
 void Simulation::build_cells() {
@@ -56,12 +64,50 @@ void Simulation::build_cells() {
     coupling_->membrane_move().set_repulsion(rep, scene.length, scene.height);
 }
 
+// One step tⁿ → tⁿ⁺¹: the study's Lie scheme L_Δt (lie_step), or with [time] scheme =
+// "lie-extrapolated" its local Richardson extrapolation (paper/method/07_second_order_in_time.md),
+//
+//   Xⁿ⁺¹ = 2 L_{Δt/2}(L_{Δt/2}(Xⁿ)) − L_Δt(Xⁿ),   X = (u, p, membrane nodes, disks):
+//
+// the first-order error of L cancels, and its L-stable damping of stiff modes stays.
+void Simulation::step() {
+  if (!half_step_) {
+    lie_step();
+    return;
+  }
+  half_step_->take_state(*this);  // Xⁿ
+  half_step_->lie_step();
+  half_step_->lie_step();         // L_{Δt/2}(L_{Δt/2}(Xⁿ))
+  lie_step();                     // L_Δt(Xⁿ)
+  extrapolate_with(*half_step_);
+}
+
+void Simulation::take_state(const Simulation& from) {
+  flow_.take_state(from.flow_);
+  for (std::size_t k = 0; k < cells_.size(); ++k) cells_[k].nodes = from.cells_[k].nodes;
+  disks_ = from.disks_;
+}
+
+void Simulation::extrapolate_with(const Simulation& finer) {
+  flow_.extrapolate_with(finer.flow_);
+  for (std::size_t k = 0; k < cells_.size(); ++k)  // (x1 unwrapped in both runs: no seam between them)
+    for (std::size_t i = 0; i < cells_[k].nodes.size(); ++i) cells_[k].nodes[i] = 2.0 * finer.cells_[k].nodes[i] - cells_[k].nodes[i];
+  for (std::size_t d = 0; d < disks_.size(); ++d) {
+    Disk& a = disks_[d];
+    const Disk& f = finer.disks_[d];
+    a.center = 2.0 * f.center - a.center;
+    a.velocity = 2.0 * f.velocity - a.velocity;
+    a.angle = 2.0 * f.angle - a.angle;
+    a.angular_velocity = 2.0 * f.angular_velocity - a.angular_velocity;
+  }
+}
+
 // One step of the study's Lie scheme (the study's Section 2.4: its steps 1-4, its eqs. (19)-(21)
 // for the fluid and (8), (10), (13)-(14) for the membranes), tⁿ → tⁿ⁺¹. The fluid's steps are
 // ChannelFlow::step's, with the membranes' step 2 between its steps 1 and 3. The disks, where a
 // scene has them, are held by step 4 and moved after it; the semi-implicit coupling adds its
 // correction to step 4.
-void Simulation::step() {
+void Simulation::lie_step() {
   if (disk_constraint_) hold_disks_where_they_will_be();
   // (1) eq. (19), (3) eq. (20), (4) eq. (21); between (1) and (3) the membranes' step
   // (2), eqs. (8), (10), (13)-(14): r^{n+1}, f_B.
@@ -283,6 +329,7 @@ void Simulation::save(CheckpointWriter& w) const {
     w.put(std::int64_t(contact_steps_));
   }
   if (scene_.repulsion_strength > 0) w.put(std::int64_t(repulsion_steps_));  // (only scenes with the repulsion)
+  if (half_step_) half_step_->save(w);  // its solvers' warm starts (only the extrapolated scheme)
 }
 
 void Simulation::load(CheckpointReader& r) {
@@ -320,6 +367,7 @@ void Simulation::load(CheckpointReader& r) {
       throw CheckpointError(r.path() + ": steps with the membrane repulsion " + std::to_string(repulsion_steps_) + " out of range [0, " +
                             std::to_string(steps()) + "]");
   }
+  if (half_step_) half_step_->load(r);
 }
 
 void Simulation::place_cell(std::size_t k, const Points& nodes) {

@@ -50,7 +50,8 @@ class Simulation {
   // winners; tests and the benchmark set others). They change the cost, not the step.
   explicit Simulation(const Scene& scene, const CouplingOptions& options = {});
 
-  // One step of the study's Lie scheme, tⁿ → tⁿ⁺¹.
+  // One step tⁿ → tⁿ⁺¹ of the scene's time integration ([time] scheme): the study's Lie scheme,
+  // or that step extrapolated with two of half its Δt ("lie-extrapolated").
   void step();
   // The fluid as the developed cell-free profile instead of rest (the study starts from rest;
   // benchmarks use this to time steps in a flow that moves the cells as a long run does).
@@ -111,7 +112,13 @@ class Simulation {
   VelocityField contact_field_;  // step 4's force density with the contact forces (and f_B)
   long contact_steps_ = 0;
   long repulsion_steps_ = 0;
-  // The parts of step(), in its order.
+  // [time] scheme = "lie-extrapolated": the same scene at Δt/2 (its scheme "lie"), which takes
+  // this run's state before each step and runs two steps (null: the study's scheme).
+  std::unique_ptr<Simulation> half_step_;
+  void take_state(const Simulation& from);       // u, p, clock, membrane nodes, disks
+  void extrapolate_with(const Simulation& finer);  // that state ← 2 (finer's) − (this one's)
+  // One step of the study's Lie scheme; its parts, in its order.
+  void lie_step();
   void hold_disks_where_they_will_be();
   const VelocityField* membrane_step();  // step 4's force density: f_B and the disks' contact forces (null: none)
   void coupling_after_step4();  // what the cells' coupling adds to u^{n+1} (the semi-implicit one's correction)
