@@ -10,7 +10,8 @@
 # reference-data/uncertainty/EXPERIMENT.csv by the measured one, with the commit and the code that
 # the kept cases name (one code: a row does not mix the runs of two codes). A row that the kept
 # cases leave incomplete is an error, and the record stays as it was. Where the kept cases have no
-# 2h run, the h column is carried over from the row replaced, and the row's source says so.
+# 2h run, the h column is carried over from the row replaced, and the row's source says so; a row
+# the record does not hold yet is added at its end.
 # Exit status: 0; 2 on bad use, an incomplete row, or cases of more than one code.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,12 +37,15 @@ for pattern in "$@"; do
   matched=0
   for dir in "$kept"/$pattern/; do
     [ -f "$dir/summary.json" ] || continue
-    cp -r "$dir" "$scratch/$exp/" && cases+=("$(basename "$dir")") && matched=1
+    [ -f "$dir/code_id" ] || { echo "record_kept_uncertainty: $dir has no code_id: which code made it?" >&2; exit 2; }
+    cp -r "$dir" "$scratch/$exp/"
+    cases+=("$(basename "$dir")")
+    matched=1
   done
   [ "$matched" = 1 ] || { echo "record_kept_uncertainty: no kept case matches $kept/$pattern" >&2; exit 2; }
 done
 codes=$(for c in "${cases[@]}"; do head -n 2 "$kept/$c/code_id" | paste -sd' '; done | sort -u)
-if [ "$(wc -l <<< "$codes")" != 1 ]; then
+if [ "$(wc -l <<< "$codes")" -ne 1 ]; then
   echo "record_kept_uncertainty: the cases were made by more than one code (code commit):" >&2
   echo "$codes" >&2; exit 2
 fi
@@ -61,17 +65,18 @@ python3 - "$record" "$measured" "$commit" "$code" "$source_text" "${rows[@]}" <<
 import csv, sys
 record_path, measured_path, commit, code, source = sys.argv[1:6]
 wanted = sys.argv[6:]
-with open(record_path, newline='') as f:
+with open(record_path, newline='', encoding='utf-8') as f:
     record = list(csv.DictReader(f))
     header = list(record[0].keys()) if record else None
-with open(measured_path, newline='') as f:
+with open(measured_path, newline='', encoding='utf-8') as f:
     measured = {r['id']: r for r in csv.DictReader(f)}
 header = header or list(next(iter(measured.values())).keys())
 old = {r['id']: r for r in record}
 for row in wanted:
     if row not in measured:
-        sys.exit(f"record_kept_uncertainty: row {row}: its u_num is not complete from these kept runs "
-                 f"(the rows that are: {' '.join(sorted(measured)) or 'none'})")
+        print(f"record_kept_uncertainty: row {row}: its u_num is not complete from these kept runs "
+              f"(the rows that are: {' '.join(sorted(measured)) or 'none'})", file=sys.stderr)
+        sys.exit(2)
 for row in wanted:
     new = dict(measured[row])
     new['source'], new['commit'], new['code'] = source, commit, code
@@ -84,7 +89,7 @@ for row in wanted:
     else:
         record.append(new)
     print(f"record_kept_uncertainty: {row} recorded in {record_path} (commit {commit}, code {code})")
-with open(record_path, 'w', newline='') as f:
+with open(record_path, 'w', newline='', encoding='utf-8') as f:
     w = csv.DictWriter(f, fieldnames=header, lineterminator='\n')
     w.writeheader()
     w.writerows(record)

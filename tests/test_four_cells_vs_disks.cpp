@@ -74,9 +74,9 @@ TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseCo
 }
 
 // The k_b row from its paired starts (the study's places and seeds 1-5 at 0.75, 1.5 and 3 us, no
-// 6 us ensemble): the Δt part fits the six starts' level means, the start spread is the one at the
-// reported run's level (1.5 us), and nothing is missing, so the row's u_num is measured, not
-// recorded. Without the paired starts the same cases leave the start ensemble missing.
+// 6 us ensemble): the Δt part fits the six starts' level means, the start spread is theirs pooled
+// over the levels (the same s as the fit's noise), and nothing is missing, so the row's u_num is
+// measured, not recorded. Without the paired starts the same cases leave the start ensemble missing.
 TEST(FourCellsVsDisksExperiment, PairedStartsGiveTheRowsDtPartAndItsStartSpread) {
   Params p;
   p.out_dir = (fs::temp_directory_path() / "rbcflow_paired_row_none").string();  // no series: no window part
@@ -105,7 +105,7 @@ TEST(FourCellsVsDisksExperiment, PairedStartsGiveTheRowsDtPartAndItsStartSpread)
   ASSERT_TRUE(m.u.dt);
   EXPECT_EQ(m.u.dt->values.size(), 3u);
   ASSERT_TRUE(m.u.ensemble);
-  EXPECT_NEAR(*m.u.ensemble, sample_std(offsets), 1e-9);  // the 1.5 us level's spread, not the 3 us one's
+  EXPECT_NEAR(*m.u.ensemble, sample_std(offsets) * std::sqrt((1.0 + 1.0 + 16.0) / 3), 1e-9);  // pooled: the 3 us level's too
   EXPECT_EQ(m.u.members, 6);
   EXPECT_TRUE(m.u.missing.empty()) << m.u.missing;
   EXPECT_TRUE(m.u.total());

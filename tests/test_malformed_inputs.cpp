@@ -112,6 +112,7 @@ std::vector<Case> corpus() {
       {"end shorter than dt", replace(kGood, "end = 1e-6", "end = 1e-8"), run, 2, {"[time] end", "at least one time step"}},
       {"zero substeps", kGood + "advection_substeps = 0\n", run, 2, {"[time] advection_substeps", "out of range"}},
       {"unknown coupling", kGood + "coupling = \"implicit\"\n", run, 2, {"[time] coupling", "semi-implicit"}},
+      {"unknown time scheme", kGood + "scheme = \"strang\"\n", run, 2, {"[time] scheme", "lie-extrapolated"}},
       {"misspelt preconditioner", kGood + "[solver]\npressure_preconditioner = \"shur\"\n", run, 2, {"did you mean 'schur'"}},
       {"cg tolerance 1", kGood + "[solver]\ncg_tolerance = 1.0\n", run, 2, {"[solver] cg_tolerance", "out of range"}},
       {"output every below dt", kGood + "[output]\nevery = 1e-9\n", run, 2, {"[output] every", "at least one time step"}},

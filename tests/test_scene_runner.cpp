@@ -295,9 +295,9 @@ TEST(SceneRunner, MovieFramesHoldEveryBodyAtTheirTimes) {
   for (const auto& o : b.outlines) EXPECT_EQ(o, (std::map<int, int>{{2, 1}}));
 }
 
-// A finished run is read back (--reuse) only for the scene that made it: another time step or
-// form of the pressure splitting runs again; a summary older than the "projection" key counts as
-// the study's form.
+// A finished run is read back (--reuse) only for the scene that made it: another time step, form
+// of the pressure splitting or time scheme runs again; a summary older than the "projection" and
+// "scheme" keys counts as the study's form and scheme.
 TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   const auto out = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse";
   std::filesystem::remove_all(out);
@@ -307,12 +307,22 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.dt=5e-8"})).has_value());
+  const Scene extrapolated = parse_scene(kGood, "scene.toml", {"time.scheme=\"lie-extrapolated\""});
+  ASSERT_EQ(extrapolated.scheme, "lie-extrapolated");
+  EXPECT_FALSE(read_finished_run(out.string(), extrapolated).has_value());
   nlohmann::json j = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_EQ(j["projection"], "study");
+  EXPECT_EQ(j["scheme"], "lie");
   j.erase("projection");
+  j.erase("scheme");
   std::ofstream(out / "summary.json") << j.dump();
   EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
+  EXPECT_FALSE(read_finished_run(out.string(), extrapolated).has_value());
+  // The resolved scene names the scheme only when it is not the study's (so that the study's
+  // resolved scenes read as before the key), and reads back to the same scene.
+  EXPECT_EQ(scene_to_toml(scene).find("scheme"), std::string::npos);
+  EXPECT_EQ(parse_scene(scene_to_toml(extrapolated), "resolved.toml").scheme, "lie-extrapolated");
 }
 
 TEST(SceneRunner, AResultsFolderSaysWhatMadeItAndRepeatsFromItsSceneFile) {

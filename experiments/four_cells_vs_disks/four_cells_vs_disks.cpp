@@ -464,7 +464,7 @@ PairedLevels paired_levels(const Params& p, const Results& res, const std::strin
 // at 6 us, for every cell case), the window noise of the reported run (the last 5 windows of 1 ms);
 // the h column from the 2h run of the k_b cells or the disks (second order in h). Where the case's
 // paired starts finished at every level (kb1, kb1000), they give both the Δt part (their level
-// means) and the start spread (theirs at the reported run's level, with the same Δt error).
+// means) and the start spread (theirs, pooled over the levels).
 Measured row_with_uncertainty(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note) {
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
   const std::string name = reported_case(res, base);
@@ -501,15 +501,15 @@ Measured row_with_uncertainty(const Params& p, const Results& res, const std::st
   const PairedLevels paired = paired_levels(p, res, base, re);
   if (paired.pairs >= 1) {
     // Paired starts at every level: the level means' steps, their noise the starts' spread over √n;
-    // the start spread the one at the reported run's level.
+    // the start part that spread too (pooled over the levels: one spread for the row).
     std::size_t at = 0;  // the reported run's level (the nearest)
     for (std::size_t l = 1; l < kPairedDts.size(); ++l)
       if (std::abs(kPairedDts[l] - r.dt) < std::abs(kPairedDts[at] - r.dt)) at = l;
     m.u.dt = grid_convergence_index(paired.means, 2.0, 1.0, int(at),
                                     paired.s / std::sqrt(double(paired.pairs + 1)));
     m.u.dt->label = "dt 0.75/1.5/3 us, means of " + std::to_string(paired.pairs + 1) + " paired starts";
-    m.u.ensemble = sample_std(paired.values[at]);
-    m.u.members = paired.values[at].size();
+    m.u.ensemble = paired.s;
+    m.u.members = paired.pairs + 1;
   } else if (seq.size() >= 2) {
     // The start ensemble's spread tells the Δt fit which level differences are noise.
     m.u.dt = grid_convergence_index(seq, 2.0, 1.0, reported, m.u.ensemble.value_or(NAN));

@@ -163,7 +163,7 @@ struct Results {
 Results run(const Params& p);
 
 // A distance (bool re false, um) or Re row of a study case (base: "kb1", ..., "disks") with its
-// u_num's parts from the cases in res: the Δt part and the start spread from the paired starts
+// u_num's parts from the cases in res: the Δt part and the start spread (pooled) from the paired starts
 // where they finished at every level of kPairedDts, else from the case's Δt levels and the 6 us
 // start ensemble; the window noise of the reported run (its series.csv under p.out_dir).
 Measured row_with_uncertainty(const Params& p, const Results& res, const std::string& base, bool re, const std::string& note);

@@ -1,5 +1,5 @@
 #pragma once
-// stability_map — the largest stable time step of the two couplings (ours: the study has no such test).
+// stability_map — the largest stable time step of the couplings and schemes (ours: the study has no such test).
 //
 // Question: how does the stable Δt depend on the membrane stiffness (k_l × 0.01 … 100,
 // k_b × 1 … 1000) and on the mesh size h, for the study's explicit coupling and for our

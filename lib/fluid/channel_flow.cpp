@@ -94,15 +94,6 @@ void ChannelFlow::take_state(const ChannelFlow& from) {
   t_ = from.t_;
 }
 
-void ChannelFlow::extrapolate_with(const ChannelFlow& finer) {
-  auto extrapolate = [](std::vector<double>& coarse, const std::vector<double>& fine) {
-    for (std::size_t k = 0; k < coarse.size(); ++k) coarse[k] = 2.0 * fine[k] - coarse[k];
-  };
-  extrapolate(u_.u1, finer.u_.u1);  // (the walls' values: 2 w − w = w)
-  extrapolate(u_.u2, finer.u_.u2);
-  extrapolate(pressure_, finer.pressure_);
-}
-
 void ChannelFlow::save(CheckpointWriter& w) const {
   w.put(u_.u1);
   w.put(u_.u2);

@@ -82,14 +82,14 @@ class ChannelFlow {
   VelocityField& velocity() { return u_; }
   const VelocityField& velocity() const { return u_; }
   const std::vector<double>& pressure() const { return pressure_; }
+  std::vector<double>& pressure() { return pressure_; }
   const QuasiStokesProjection& projection() const { return projection_; }
   QuasiStokesProjection& projection() { return projection_; }
   double time() const { return t_; }
   long steps() const { return steps_; }
-  // The extrapolated scheme (Simulation, [time] scheme = "lie-extrapolated"), flows on the same
-  // mesh: take u, p and the clock from another flow; and u, p ← 2 (the finer run's) − (this one's).
+  // The extrapolated scheme (Simulation, [time] scheme = "lie-extrapolated"): u, p and the clock
+  // from another flow on the same mesh.
   void take_state(const ChannelFlow& from);
-  void extrapolate_with(const ChannelFlow& finer);
   // Checkpoints: velocity, pressure (the warm start of the next projection), clock.
   void save(CheckpointWriter& w) const;
   void load(CheckpointReader& r);

@@ -93,7 +93,8 @@ struct Scene {
   std::string projection = "study";
   // The time integration: "lie", the study's Lie scheme, one step a step (first order);
   // "lie-extrapolated", each step that Lie step and two of half its Δt, extrapolated
-  // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order; not in the study: paper/method/07_second_order_in_time.md).
+  // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order with projection "incremental", about 1.4 with the
+  // study's form; not in the study: paper/method/07_second_order_in_time.md).
   std::string scheme = "lie";
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;

@@ -1,5 +1,6 @@
 #pragma once
-// A scene in motion: the parts of the method the scene needs, advanced by the study's Lie scheme.
+// A scene in motion: the parts of the method the scene needs, advanced by the study's Lie scheme
+// (or its extrapolation to second order, [time] scheme = "lie-extrapolated").
 // A cell-free channel composes the fluid alone (no membrane code); cells add the membrane step.
 #include <memory>
 #include <string>
@@ -50,8 +51,11 @@ class Simulation {
   // winners; tests and the benchmark set others). They change the cost, not the step.
   explicit Simulation(const Scene& scene, const CouplingOptions& options = {});
 
-  // One step tⁿ → tⁿ⁺¹ of the scene's time integration ([time] scheme): the study's Lie scheme,
-  // or that step extrapolated with two of half its Δt ("lie-extrapolated").
+  // One step tⁿ → tⁿ⁺¹ of the scene's time integration ([time] scheme): the study's Lie scheme
+  // L_Δt, or ("lie-extrapolated", paper/method/07_second_order_in_time.md) its local Richardson
+  // extrapolation Xⁿ⁺¹ = 2 L_{Δt/2}(L_{Δt/2}(Xⁿ)) − L_Δt(Xⁿ), X = (u, p, membrane nodes, disks).
+  // The counters (contact and repulsion steps, coupling iterations, the coupling's cost) are the
+  // L_Δt step's; the half steps keep their own.
   void step();
   // The fluid as the developed cell-free profile instead of rest (the study starts from rest;
   // benchmarks use this to time steps in a flow that moves the cells as a long run does).
