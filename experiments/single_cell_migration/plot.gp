@@ -108,7 +108,8 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s)' %s", c, h, conv)
   plot for [h in "0.5 0.25 0.125"] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 7 title 'explicit, h = '.h.' um', \
        for [h in "0.5 0.25 0.125"] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
-       for [h in "0.5 0.25 0.125"] sel("semi-implicit Richardson", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 9 dt 3 title 'semi-implicit, Richardson, h = '.h.' um'
+       for [h in "0.5 0.25 0.125"] sel("semi-implicit Richardson", h) using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 9 dt 3 title 'semi-implicit, Richardson, h = '.h.' um', \
+       sel("semi-implicit-extrapolated", "0.125") using 5:($7 > 0 ? $7 : 1/0) with linespoints pt 11 lw 2 title 'semi-implicit, extrapolated Lie (incremental p), h = 0.125 um'
 }
 
 # The movie: the s* = 0.7 cell in the narrow channel, the whole run (experiments/common/movie.gp).
