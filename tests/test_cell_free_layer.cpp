@@ -89,6 +89,7 @@ TEST(CellFreeLayerExperiment, ArrangementIsTheStatedSeededLatticeAndTheScenesAcc
                             c.name.find("_early_study_") != std::string::npos ||
                             (c.role == "convergence" && c.name.find("_inc_") == std::string::npos);
     EXPECT_EQ(s.projection, study_form ? "study" : "incremental") << c.name;
+    EXPECT_EQ(s.scheme, c.name.rfind("conv_sie_", 0) == 0 ? "lie-extrapolated" : "lie") << c.name;  // the work-precision's third scheme
     // The membrane repulsion: on (range 2h) in the 100-cell cases but one and in n50_repulsion.
     const bool repelled = (c.cells == 100 && c.name != "n100_no_repulsion") || c.name == "n50_repulsion";
     EXPECT_EQ(s.repulsion_strength, repelled ? kRepulsionStrength : 0.0) << c.name;
@@ -128,7 +129,7 @@ TEST(CellFreeLayerExperiment, StudyOnlyIsTheTwoReportedRunsAndTheCoarseConvergen
     }
   }
   EXPECT_EQ(names, (std::vector<std::string>{"n100_dt1.5us", "n50_dt1.5us"}));
-  EXPECT_EQ(coarse_convergence, 6);  // explicit 2 and semi-implicit (incremental p) 4, at h = 0.625 um
+  EXPECT_EQ(coarse_convergence, 9);  // explicit 2, semi-implicit (incremental p) 4 and extrapolated 3, at h = 0.625 um
   EXPECT_EQ(read_only, 2 * (2 * int(p.seeds.size()) + 1));
   EXPECT_GE(p.seeds.size() + 1, kEnsembleMinimum);  // seed 1 and the others: a decidable ensemble
   Params quick;

@@ -60,7 +60,7 @@ TEST(FourCellsVsDisksExperiment, StudyOnlyIsEachCasesReportedDtRunAndTheCoarseCo
     EXPECT_TRUE(c.reported) << c.name;
   }
   EXPECT_EQ(names, (std::set<std::string>{"kb1_dt1.5us", "kb10_dt1.5us", "kb100_dt1.5us", "kb1000_dt0.75us", "s07_dt1.5us", "disks_dt1.5us"}));
-  EXPECT_EQ(coarse_convergence, 10);  // cells explicit 2, semi-implicit 4, disks 4, at h = 0.625 um
+  EXPECT_EQ(coarse_convergence, 13);  // cells explicit 2, semi-implicit 4, extrapolated 3, disks 4, at h = 0.625 um
   Params evidence;
   std::set<std::string> finer;
   for (const Case& c : cases(evidence))
@@ -146,8 +146,12 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
     }
     EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
     EXPECT_TRUE(s.cells.empty() || s.disks.empty()) << c.name;  // a scene builds only what it uses
-    // Disks need the study's form; the k_b cells' incremental-form ladder alone takes the other.
-    EXPECT_EQ(s.projection, c.name.rfind("kb1_inc_dt", 0) == 0 ? "incremental" : "study") << c.name;
+    // Disks need the study's form; the k_b cells' incremental-form ladder and the extrapolated
+    // scheme's work-precision runs (conv_sie_*, its second-order form) alone take the other, and
+    // only those runs the extrapolated scheme.
+    const bool extrapolated = c.name.rfind("conv_sie_", 0) == 0;
+    EXPECT_EQ(s.projection, c.name.rfind("kb1_inc_dt", 0) == 0 || extrapolated ? "incremental" : "study") << c.name;
+    EXPECT_EQ(s.scheme, extrapolated ? "lie-extrapolated" : "lie") << c.name;
     if (c.role != "study") continue;
     ++study;
     EXPECT_EQ(s.mesh_size, 0.3125e-6);

@@ -120,6 +120,7 @@ struct Case {
   std::string coupling;           // "explicit" or "semi-implicit"; empty: the scene file's
   double margin = 0;              // m: the lattice's rows kept this far in from each wall (arrangement())
   std::string projection;         // "study" or "incremental" (ChannelFlowParams); empty: the scene file's
+  std::string scheme;             // "lie" or "lie-extrapolated" ([time] scheme); empty: the scene file's
   bool reported = false;          // the run the study's rows and figures read (the finest Δt)
   bool read_only = false;         // read back where finished or kept (paper/keep_evidence.sh),
                                   // never run: the rows' ensemble under --study-only

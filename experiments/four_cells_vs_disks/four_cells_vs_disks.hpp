@@ -39,7 +39,9 @@
 //   kb1_dt0.75us, kb1000_dt0.375us            one level below the reported run (evidence only)
 //   one_disk_x2_10um.toml, one_disk_x2_20um.toml  (scenes for build/bin/rbcflow run) one disk from
 //                                             either side of its equilibrium, to 400 ms
-//   conv_*                                    error against run time on a 1.2 ms horizon
+//   conv_*                                    error against run time on a 1.2 ms horizon (conv_sie_*:
+//                                             the semi-implicit coupling in the extrapolated Lie
+//                                             scheme, incremental form)
 //   kb1_seed<s>_dt<l>us, kb1000_seed<s>_dt<l>us  paired seeds: the ensemble's starts (s = 1..5)
 //                                             at each Δt level l = 3, 1.5, 0.75 us
 //   kb1_explicit                              the study's explicit scheme, to kExplicitEnd
@@ -109,6 +111,7 @@ struct Case {
   double h = 0, dt = 0, end = 0;  // m, s, s; 0: the scene file's
   std::string coupling;        // empty: the scene file's
   std::string projection;      // the pressure's form ("study", "incremental"); empty: the scene file's
+  std::string scheme;          // the time scheme ("lie", "lie-extrapolated"); empty: the scene file's
   std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
   bool reported = false;       // the run the study's rows and figures read: the case's finest Δt
 };

@@ -87,7 +87,8 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
   plot for [h in hs] sel("semi-implicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'cells, semi-implicit, h = '.h.' um', \
        for [h in hs] sel("explicit", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 7 title 'cells, explicit, h = '.h.' um', \
        for [h in hs] sel("disks", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 9 title 'disks, h = '.h.' um', \
-       for [h in hs] sel("semi-implicit Richardson", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 4 dt 3 title 'cells, semi-implicit, Richardson, h = '.h.' um'
+       for [h in hs] sel("semi-implicit Richardson", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 4 dt 3 title 'cells, semi-implicit, Richardson, h = '.h.' um', \
+       for [h in hs] sel("semi-implicit-extrapolated", h) using 5:($7 > 0 ? $7 : 1/0) skip 1 with linespoints pt 11 lw 2 title 'cells, semi-implicit, extrapolated Lie (incremental p), h = '.h.' um'
 }
 
 # The movie: the four cells (s* = 1, k_b) and the four disks side by side, each its reported run.
