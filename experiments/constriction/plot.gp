@@ -68,7 +68,8 @@ if (system('test -f '.conv.' && echo 1 || echo 0') eq "1") {
   sel(c, h) = sprintf("< awk -F, 'NR==1 || ($1==\"%s\" && $2==%s && $10==\"\")' %s", c, h, conv)
   plot for [h in hs] sel("semi-implicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 5 dt 2 title 'semi-implicit, h = '.h.' um', \
        for [h in hs] sel("explicit", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 7 title 'explicit, h = '.h.' um', \
-       for [h in hs] sel("semi-implicit Richardson", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 9 dt 3 title 'semi-implicit, Richardson, h = '.h.' um'
+       for [h in hs] sel("semi-implicit Richardson", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 9 dt 3 title 'semi-implicit, Richardson, h = '.h.' um', \
+       for [h in hs] sel("semi-implicit-extrapolated", h) using 6:($8 > 0 ? $8 : 1/0) skip 1 with linespoints pt 11 lw 2 title 'semi-implicit, extrapolated Lie, h = '.h.' um'
 }
 
 # The movie: the cells through the passage (experiments/common/movie.gp).
