@@ -37,7 +37,8 @@ bool recovered_region(double x, const Obstacle& block, double L) {
 // error = RMS over the cells of the distance between centroids at kConvTime (x1 periodic), and
 // the relative difference of U_wide. The advection's Q from the straight channel's bound. The
 // third scheme, kExtrapolated: the semi-implicit coupling in the extrapolated Lie scheme (the
-// scene's incremental form: its second-order form, paper/method/07_second_order_in_time.md).
+// scene's incremental form: its second-order form, paper/method/07_second_order_in_time.md), at
+// 6 and 3 us only: with the blocks it grows unstable at 1.5 and 0.75 us, cells or none (chapter 7).
 const std::string kExtrapolated = "semi-implicit-extrapolated";
 struct ConvergenceJob { std::string coupling; double h; std::vector<double> dts; };
 const std::vector<ConvergenceJob>& convergence_jobs() {
@@ -46,8 +47,8 @@ const std::vector<ConvergenceJob>& convergence_jobs() {
                                                    {"semi-implicit", 0.3125e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
                                                    {"explicit", 0.625e-6, {1e-7, 5e-8, 2.5e-8}},
                                                    {"explicit", 0.3125e-6, {5e-8, 2.5e-8}},
-                                                   {kExtrapolated, 0.625e-6, {6e-6, 3e-6, 1.5e-6}},
-                                                   {kExtrapolated, 0.3125e-6, {6e-6, 3e-6, 1.5e-6}}};
+                                                   {kExtrapolated, 0.625e-6, {6e-6, 3e-6}},
+                                                   {kExtrapolated, 0.3125e-6, {6e-6, 3e-6}}};
   return jobs;
 }
 std::string convergence_name(const std::string& coupling, double h, double dt) {
