@@ -225,25 +225,25 @@ std::vector<Case> cases(const Params& p) {
     // reference; the semi-implicit runs in both forms of the pressure: "_inc" in the name, the
     // experiment's (README.md, Deviations), and without it the study's form; "sie": the
     // semi-implicit coupling in the extrapolated Lie scheme (incremental form: its second-order
-    // form, paper/method/07_second_order_in_time.md).
-    struct Job { const char* coupling; double h; std::vector<double> dts; bool incremental = false; bool extrapolated = false; };
+    // form, paper/method/07_second_order_in_time.md). kind: case_runner's.
+    struct Job { std::string kind; double h; std::vector<double> dts; bool incremental = false; };
     const Job jobs[] = {{"explicit", 0.3125e-6, {2.5e-8, 5e-8}},
                         {"explicit", 0.625e-6, {5e-8, 1e-7}},
                         {"explicit", 0.3125e-6, {5e-8}, true},
                         {"semi-implicit", 0.3125e-6, {5e-8, 2e-7, 7.5e-7, 1.5e-6, 3e-6, 6e-6}},
                         {"semi-implicit", 0.3125e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}, true},
                         {"semi-implicit", 0.625e-6, {7.5e-7, 1.5e-6, 3e-6, 6e-6}, true},
-                        {"semi-implicit", 0.3125e-6, {1.5e-6, 3e-6, 6e-6}, true, true},
-                        {"semi-implicit", 0.625e-6, {1.5e-6, 3e-6, 6e-6}, true, true}};
+                        {case_runner::kExtrapolatedKind, 0.3125e-6, {1.5e-6, 3e-6, 6e-6}, true},
+                        {case_runner::kExtrapolatedKind, 0.625e-6, {1.5e-6, 3e-6, 6e-6}, true}};
     for (const Job& j : jobs)
       for (double dt : j.dts) {
         char name[96];
         std::snprintf(name, sizeof name, "conv_%s%s_h%g_dt%g",
-                      std::string(j.coupling) == "explicit" ? "explicit" : j.extrapolated ? "sie" : "si", j.incremental ? "_inc" : "", j.h * 1e6, dt);
+                      j.kind == "explicit" ? "explicit" : j.kind == case_runner::kExtrapolatedKind ? "sie" : "si", j.incremental ? "_inc" : "", j.h * 1e6, dt);
         Case c = make(name, "convergence", 50, 1);
-        c.coupling = j.coupling;
+        c.coupling = case_runner::coupling_of(j.kind);
         c.projection = j.incremental ? "incremental" : "study";
-        if (j.extrapolated) c.scheme = "lie-extrapolated";
+        if (j.kind == case_runner::kExtrapolatedKind) c.scheme = case_runner::scheme_of(j.kind);
         c.h = j.h;
         c.dt = dt;
         c.end = (std::round(kConvTime / dt) - 0.5) * dt;  // the run stops at the first step at or past end: step N
@@ -572,7 +572,7 @@ std::string convergence_table(const Params& p, const Results& res) {
   std::vector<case_runner::ConvergenceRow> rows;
   for (const auto& [name, r] : res.cases) {
     if (r.spec.role != "convergence") continue;
-    case_runner::ConvergenceRow row{.kind = r.spec.coupling + (r.spec.scheme == "lie-extrapolated" ? " extrapolated" : "") +
+    case_runner::ConvergenceRow row{.kind = case_runner::kind_of(r.spec.coupling, r.spec.scheme) +
                                             (r.spec.projection == "incremental" ? " + incremental p" : " + study-form p"),
                                     .h = r.h, .dt = r.dt, .steps = r.summary.steps, .wall_seconds = r.summary.wall_seconds,
                                     .failure = r.failure};

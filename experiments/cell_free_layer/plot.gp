@@ -113,7 +113,7 @@ if (system("test -f ".conv." && awk -F, 'NR > 1 && $6 > 0 {n++} END {print (n > 
        sel("semi-implicit + study-form p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 4 dt 3 title 'semi-implicit, the study''s form of p, h = 0.3125 um', \
        for [h in hs] sel("explicit + study-form p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 7 title 'explicit, the study''s form of p (the study''s scheme), h = '.h.' um', \
        sel("explicit + incremental p", "0.3125") using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 6 title 'explicit, incremental p, h = 0.3125 um', \
-       for [h in hs] sel("semi-implicit extrapolated + incremental p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 11 lw 2 title 'semi-implicit, extrapolated Lie, incremental p, h = '.h.' um'
+       for [h in hs] sel("semi-implicit-extrapolated + incremental p", h) using 5:($6 > 0 ? $6 : 1/0) skip 1 with linespoints pt 11 lw 2 title 'semi-implicit, extrapolated Lie, incremental p, h = '.h.' um'
 }
 
 # The rows as distributions (reference/reference_table.hpp): each arrangement at the rows' Δt and

@@ -91,6 +91,18 @@ inline bool halving_pair(double fine_h, double fine_dt, double coarse_h, double 
 std::vector<Eigen::Vector2d> richardson_centroids(const std::vector<Eigen::Vector2d>& fine, const std::vector<Eigen::Vector2d>& coarse,
                                                   double L);
 
+// The schemes a work-precision diagram or the stability map compares, each by one label (its kind):
+// "explicit" and "semi-implicit", the study's Lie scheme with that [time] coupling, and
+// kExtrapolatedKind, the semi-implicit coupling in the extrapolated Lie scheme ([time] scheme =
+// "lie-extrapolated", paper/method/07_second_order_in_time.md).
+inline const std::string kExtrapolatedKind = "semi-implicit-extrapolated";
+// A kind's [time] coupling and scheme, and a run's kind from them.
+inline std::string coupling_of(const std::string& kind) { return kind == kExtrapolatedKind ? "semi-implicit" : kind; }
+inline std::string scheme_of(const std::string& kind) { return kind == kExtrapolatedKind ? "lie-extrapolated" : "lie"; }
+inline std::string kind_of(const std::string& coupling, const std::string& scheme) {
+  return scheme == "lie-extrapolated" ? kExtrapolatedKind : coupling;
+}
+
 // One run of a work-precision study: its kind ("explicit", "semi-implicit", ...), h (m), Δt (s),
 // steps, wall time (s), errors (m; NaN without a reference) and why it stopped (empty: it did not).
 struct ConvergenceRow {

@@ -36,10 +36,10 @@ bool recovered_region(double x, const Obstacle& block, double L) {
 // Δt halving from the largest stable step. Reference: the finest explicit run (h = 0.3125 um, the smallest Δt);
 // error = RMS over the cells of the distance between centroids at kConvTime (x1 periodic), and
 // the relative difference of U_wide. The advection's Q from the straight channel's bound. The
-// third scheme, kExtrapolated: the semi-implicit coupling in the extrapolated Lie scheme (the
+// third scheme, kExtrapolatedKind: the semi-implicit coupling in the extrapolated Lie scheme (the
 // scene's incremental form: its second-order form, paper/method/07_second_order_in_time.md), at
 // 6 and 3 us only: with the blocks it grows unstable at 1.5 and 0.75 us, cells or none (chapter 7).
-const std::string kExtrapolated = "semi-implicit-extrapolated";
+using case_runner::kExtrapolatedKind;
 struct ConvergenceJob { std::string coupling; double h; std::vector<double> dts; };
 const std::vector<ConvergenceJob>& convergence_jobs() {
   static const std::vector<ConvergenceJob> jobs = {{"semi-implicit", 1.25e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
@@ -47,8 +47,8 @@ const std::vector<ConvergenceJob>& convergence_jobs() {
                                                    {"semi-implicit", 0.3125e-6, {6e-6, 3e-6, 1.5e-6, 7.5e-7}},
                                                    {"explicit", 0.625e-6, {1e-7, 5e-8, 2.5e-8}},
                                                    {"explicit", 0.3125e-6, {5e-8, 2.5e-8}},
-                                                   {kExtrapolated, 0.625e-6, {6e-6, 3e-6}},
-                                                   {kExtrapolated, 0.3125e-6, {6e-6, 3e-6}}};
+                                                   {kExtrapolatedKind, 0.625e-6, {6e-6, 3e-6}},
+                                                   {kExtrapolatedKind, 0.3125e-6, {6e-6, 3e-6}}};
   return jobs;
 }
 std::string convergence_name(const std::string& coupling, double h, double dt) {
@@ -67,9 +67,9 @@ void convergence_study(const Params& p, Results& res) {
       if (!p.only.empty() && p.only != name) continue;
       char num[160];
       std::snprintf(num, sizeof num, "channel.mesh_size=%.17g", j.h);
-      std::vector<std::string> o = {num, "time.coupling=\"" + std::string(j.coupling == kExtrapolated ? "semi-implicit" : j.coupling) + "\"",
+      std::vector<std::string> o = {num, "time.coupling=\"" + case_runner::coupling_of(j.coupling) + "\"",
                                     "output.snapshots=[0.0]", "output.fields=false"};
-      if (j.coupling == kExtrapolated) o.push_back("time.scheme=\"lie-extrapolated\"");
+      if (j.coupling == kExtrapolatedKind) o.push_back("time.scheme=\"" + case_runner::scheme_of(j.coupling) + "\"");
       std::snprintf(num, sizeof num, "time.dt=%.17g", dt);
       o.push_back(num);
       std::snprintf(num, sizeof num, "time.end=%.17g", std::round(kConvTime / dt) * dt);
@@ -122,7 +122,7 @@ void convergence_study(const Params& p, Results& res) {
   std::vector<ConvergenceRun> extrapolated;
   for (const auto& fine : res.convergence)
     for (const auto& coarse : res.convergence)
-      if (&fine != ref && fine.coupling != kExtrapolated && coarse.coupling == fine.coupling &&
+      if (&fine != ref && fine.coupling != kExtrapolatedKind && coarse.coupling == fine.coupling &&
           case_runner::halving_pair(fine.h, fine.dt, coarse.h, coarse.dt) &&
           fine.failure.empty() && coarse.failure.empty()) {
         ConvergenceRun r = fine;
@@ -158,11 +158,11 @@ void convergence_study(const Params& p, Results& res) {
      << " threads, one run after the other). Errors below the reference's own (unknown) error are not resolved: the h-error of "
         "the reference's h is not in it. Rows \"Richardson\": 2 c(Δt) − c(2Δt) from the runs at Δt and 2Δt of the same coupling "
         "and h, at the wall time of both (none from the reference itself; Q is the finer run's: where the coarser run took twice as "
-        "many advection substeps, their common substep's error is carried, not extrapolated). Rows \"" << kExtrapolated << "\": the "
+        "many advection substeps, their common substep's error is carried, not extrapolated). Rows \"" << kExtrapolatedKind << "\": the "
         "semi-implicit coupling in the extrapolated Lie scheme (each step 2 L_{Δt/2}² − L_Δt).\n\n";
   md << "| coupling | h (um) | Δt (s) | Q | steps | wall (s) | U_wide (cm/s) | centroid error (um) | U_wide error | observed order in Δt |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n";
-  for (const std::string& coupling : {std::string("semi-implicit"), std::string("semi-implicit Richardson"), kExtrapolated,
+  for (const std::string& coupling : {std::string("semi-implicit"), std::string("semi-implicit Richardson"), kExtrapolatedKind,
                                       std::string("explicit"), std::string("explicit Richardson")})
     for (double h : {1.25e-6, 0.625e-6, 0.3125e-6}) {
       std::vector<const ConvergenceRun*> runs;

@@ -26,9 +26,8 @@ namespace {
 
 const std::string kSceneFile = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/four_cells_vs_disks/four_cells_vs_disks.toml";
 constexpr double kPi = 3.141592653589793;
-// The work-precision runs' kind of the semi-implicit coupling in the extrapolated Lie scheme.
-const std::string kExtrapolatedKind = "semi-implicit-extrapolated";
 
+using case_runner::kExtrapolatedKind;
 using case_runner::num;
 using case_runner::symmetric_unit;
 using case_runner::window_mean;
@@ -272,9 +271,9 @@ std::vector<Case> cases(const Params& p) {
         std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", j.kind == "semi-implicit" ? "si" : j.kind == kExtrapolatedKind ? "sie" : j.kind.c_str(),
                       j.h * 1e6, dt);
         Case c = j.kind == "disks" ? disks(name, "convergence") : cells(name, "convergence", 1.0, 1.0);
-        if (j.kind != "disks") c.coupling = j.kind == kExtrapolatedKind ? "semi-implicit" : j.kind;
+        if (j.kind != "disks") c.coupling = case_runner::coupling_of(j.kind);
         if (j.kind == kExtrapolatedKind) {
-          c.scheme = "lie-extrapolated";
+          c.scheme = case_runner::scheme_of(j.kind);
           c.projection = "incremental";
         }
         c.h = j.h;
@@ -749,7 +748,7 @@ std::string convergence_table(const Params& p, const Results& res) {
   };
   for (const auto& [name, r] : res.cases) {
     if (r.spec.role != "convergence") continue;
-    const std::string kind = r.spec.disks ? "disks" : r.spec.scheme == "lie-extrapolated" ? kExtrapolatedKind : r.spec.coupling;
+    const std::string kind = r.spec.disks ? "disks" : case_runner::kind_of(r.spec.coupling, r.spec.scheme);
     runs.push_back({&r, kind});
     if (!r.failure.empty()) continue;
     if (kind == "explicit" && finer(r, ref_cells)) ref_cells = &r;

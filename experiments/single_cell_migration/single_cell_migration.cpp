@@ -23,8 +23,6 @@ const std::vector<double> kFigure3Times = {0.0, 0.05e-3, 0.10e-3, 0.20e-3, 0.30e
                                            0.90e-3, 1.00e-3, 1.25e-3, 1.50e-3, 2.00e-3, 3.00e-3, 7.50e-3};
 // The narrow channel's movie (frames.dat over the run; experiments/common/movie.gp).
 constexpr int kMovieFrames = 100;
-// The work-precision runs' label of the semi-implicit coupling in the extrapolated Lie scheme.
-const std::string kExtrapolated = "semi-implicit-extrapolated";
 
 std::string tag(double s) {
   char b[16];
@@ -143,7 +141,7 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
   std::vector<ConvergenceRun> extrapolated;
   for (const auto& fine : res.convergence)
     for (const auto& coarse : res.convergence)
-      if (&fine != ref && fine.coupling != kExtrapolated && coarse.coupling == fine.coupling &&
+      if (&fine != ref && fine.coupling != case_runner::kExtrapolatedKind && coarse.coupling == fine.coupling &&
           case_runner::halving_pair(fine.h, fine.dt, coarse.h, coarse.dt))
         extrapolated.push_back({fine.coupling + " Richardson", fine.h, fine.dt, fine.steps + coarse.steps,
                                 fine.wall_seconds + coarse.wall_seconds, richardson_extrapolate(fine.y, coarse.y, 2, 1), 0});
@@ -160,12 +158,12 @@ void convergence_table(const Params& p, const ConvJobs& conv, Results& res) {
         "height at t = " << p.conv_time * 1e3 << " ms against the finest run (explicit, h = " << h_ref * 1e6 << " um, Δt = " << dt_ref
      << " s: y = " << y_ref * 1e6 << " um), wall time of each run on one thread. Errors below that run's own error are not resolved. "
         "Rows \"Richardson\": 2 y(Δt) − y(2Δt) from the runs at Δt and 2Δt of the same coupling and h, at the wall time of both "
-        "(none from the reference itself). Rows \"" << kExtrapolated << "\": the semi-implicit coupling in the extrapolated Lie scheme "
+        "(none from the reference itself). Rows \"" << case_runner::kExtrapolatedKind << "\": the semi-implicit coupling in the extrapolated Lie scheme "
         "(each step 2 L_{Δt/2}² − L_Δt) with the incremental form of the pressure.\n\n";
   md << "| coupling | h (um) | Δt (s) | steps | wall (s) | y (um) | error (um) | observed order in Δt |\n|---|---|---|---|---|---|---|---|\n";
   // Observed Δt order at fixed h: log2 of the ratio of successive differences (Δt halving).
   for (const std::string& coupling : {std::string("explicit"), std::string("explicit Richardson"), std::string("semi-implicit"),
-                                      std::string("semi-implicit Richardson"), kExtrapolated})
+                                      std::string("semi-implicit Richardson"), case_runner::kExtrapolatedKind})
     for (double h : {0.5e-6, 0.25e-6, 0.125e-6}) {
       std::vector<const ConvergenceRun*> runs;
       for (const auto& r : res.convergence)
@@ -396,7 +394,7 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
   if (!p.quick && p.convergence)
     for (const auto& [coupling, table] : {std::pair{std::string("explicit"), p.conv_explicit},
                                           std::pair{std::string("semi-implicit"), p.conv_semi_implicit},
-                                          std::pair{std::string(kExtrapolated), p.conv_extrapolated}})
+                                          std::pair{std::string(case_runner::kExtrapolatedKind), p.conv_extrapolated}})
       for (const auto& [h, dts] : table)
         for (double dt : dts) {
           char name[96];
@@ -404,11 +402,9 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
           Scene sc = channel_scene(20e-6, 10e-6, h, 0.5556, dt, std::round(p.conv_time / dt) * dt, p.conv_time / 25);
           sc.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
           sc.membrane_constants = p.membrane;
-          sc.coupling = coupling == kExtrapolated ? "semi-implicit" : coupling;
-          if (coupling == kExtrapolated) {
-            sc.scheme = "lie-extrapolated";
-            sc.projection = "incremental";
-          }
+          sc.coupling = case_runner::coupling_of(coupling);
+          sc.scheme = case_runner::scheme_of(coupling);
+          if (coupling == case_runner::kExtrapolatedKind) sc.projection = "incremental";
           sc.advection_substeps = sc.advection_substeps_for(dt);
           char src[160];
           std::snprintf(src, sizeof src, "single_cell_migration convergence %s h=%g um dt=%g s", coupling.c_str(), h * 1e6, dt);

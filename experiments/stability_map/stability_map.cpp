@@ -39,8 +39,8 @@ Params Params::report_params() {
 
 namespace {
 
-// The narrow channel of the study with one s* = 0.55 cell at (5, 3) µm; coupling
-// "semi-implicit-extrapolated": the semi-implicit coupling in the extrapolated Lie scheme.
+// The narrow channel of the study with one s* = 0.55 cell at (5, 3) µm; coupling: a kind of
+// case_runner (its [time] coupling and scheme).
 Scene narrow_scene(double h, const std::string& coupling, double kl_scale, double kb_scale) {
   Scene s;
   s.source = "stability_map";
@@ -48,8 +48,8 @@ Scene narrow_scene(double h, const std::string& coupling, double kl_scale, doubl
   s.height = 10e-6;
   s.mesh_size = h;
   s.reynolds0 = 0.5556;
-  s.coupling = coupling == kExtrapolated ? "semi-implicit" : coupling;
-  if (coupling == kExtrapolated) s.scheme = "lie-extrapolated";
+  s.coupling = case_runner::coupling_of(coupling);
+  s.scheme = case_runner::scheme_of(coupling);
   s.membrane_constants.kl *= kl_scale;
   s.membrane_constants.kb *= kb_scale;
   s.cells.push_back({{5e-6, 3e-6}, 0.55, 0.0});
@@ -443,7 +443,7 @@ void write_tables(const Params& p, const Results& res) {
       if (si.coupling != "semi-implicit" || !same_point(si, e)) continue;
       std::string extrapolated = "not run";
       for (const Point& x : res.points)
-        if (x.coupling == kExtrapolated && same_point(x, e)) {
+        if (x.coupling == case_runner::kExtrapolatedKind && same_point(x, e)) {
           char b[200];
           std::snprintf(b, sizeof b, "%s%.2e%s%s", x.unstable > 0 ? "" : ">= ", x.stable, x.unstable > 0 ? ", limited by " : "",
                         x.unstable > 0 ? limited_by(x).c_str() : "");

@@ -18,19 +18,18 @@
 #include <string>
 #include <vector>
 
+#include "common/case_runner.hpp"
 #include "reference/regression_record.hpp"
 
 namespace rbc::stability_map {
-
-inline const std::string kExtrapolated = "semi-implicit-extrapolated";
 
 struct Params {
   std::string out_dir = "results/stability_map";
   bool quick = false;
   bool progress = true;
-  // "semi-implicit-extrapolated": the semi-implicit coupling in the extrapolated Lie scheme
-  // ([time] scheme = "lie-extrapolated", paper/method/07_second_order_in_time.md)
-  std::vector<std::string> couplings = {"explicit", "semi-implicit", kExtrapolated};
+  // the schemes compared (case_runner's kinds: the extrapolated one is the semi-implicit coupling
+  // in the extrapolated Lie scheme)
+  std::vector<std::string> couplings = {"explicit", "semi-implicit", case_runner::kExtrapolatedKind};
   std::vector<double> mesh_sizes = {0.5e-6, 0.25e-6, 0.125e-6};  // h, m
   std::vector<double> kl_scales = {0.01, 0.1, 1, 10, 100};       // k_l / 5e-8, with k_b × 1
   std::vector<double> kb_scales = {10, 100, 1000};                // k_b / 5e-10, with k_l × 1
