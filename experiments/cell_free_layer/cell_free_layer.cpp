@@ -239,7 +239,7 @@ std::vector<Case> cases(const Params& p) {
       for (double dt : j.dts) {
         char name[96];
         std::snprintf(name, sizeof name, "conv_%s%s_h%g_dt%g",
-                      j.kind == "explicit" ? "explicit" : j.kind == case_runner::kExtrapolatedKind ? "sie" : "si", j.incremental ? "_inc" : "", j.h * 1e6, dt);
+                      case_runner::short_kind(j.kind).c_str(), j.incremental ? "_inc" : "", j.h * 1e6, dt);
         Case c = make(name, "convergence", 50, 1);
         c.coupling = case_runner::coupling_of(j.kind);
         c.projection = j.incremental ? "incremental" : "study";

@@ -102,6 +102,10 @@ inline std::string scheme_of(const std::string& kind) { return kind == kExtrapol
 inline std::string kind_of(const std::string& coupling, const std::string& scheme) {
   return scheme == "lie-extrapolated" ? kExtrapolatedKind : coupling;
 }
+// A kind as the work-precision runs' case names abbreviate it: "si", "sie", else the kind itself.
+inline std::string short_kind(const std::string& kind) {
+  return kind == "semi-implicit" ? "si" : kind == kExtrapolatedKind ? "sie" : kind;
+}
 
 // One run of a work-precision study: its kind ("explicit", "semi-implicit", ...), h (m), Δt (s),
 // steps, wall time (s), errors (m; NaN without a reference) and why it stopped (empty: it did not).

@@ -268,7 +268,7 @@ std::vector<Case> cases(const Params& p) {
     for (const Job& j : jobs)
       for (double dt : j.dts) {
         char name[96];
-        std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", j.kind == "semi-implicit" ? "si" : j.kind == kExtrapolatedKind ? "sie" : j.kind.c_str(),
+        std::snprintf(name, sizeof name, "conv_%s_h%g_dt%g", case_runner::short_kind(j.kind).c_str(),
                       j.h * 1e6, dt);
         Case c = j.kind == "disks" ? disks(name, "convergence") : cells(name, "convergence", 1.0, 1.0);
         if (j.kind != "disks") c.coupling = case_runner::coupling_of(j.kind);

@@ -394,7 +394,7 @@ std::vector<Job> build_jobs(const Params& p, std::vector<ConvJob>& conv) {
   if (!p.quick && p.convergence)
     for (const auto& [coupling, table] : {std::pair{std::string("explicit"), p.conv_explicit},
                                           std::pair{std::string("semi-implicit"), p.conv_semi_implicit},
-                                          std::pair{std::string(case_runner::kExtrapolatedKind), p.conv_extrapolated}})
+                                          std::pair{case_runner::kExtrapolatedKind, p.conv_extrapolated}})
       for (const auto& [h, dts] : table)
         for (double dt : dts) {
           char name[96];
