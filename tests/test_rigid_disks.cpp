@@ -3,6 +3,8 @@
 // measured values with a stated margin (numbers in the comments).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -22,6 +24,38 @@ ChannelFlowParams channel(double L, double H, double h, double dt) {
   return p;  // the study's Lie form of the pressure (the incremental one is not fit for disks: below)
 }
 
+// A sheared, swirling right-hand side of step 4 (both components, interior rows).
+std::array<std::vector<double>, 2> sheared_rhs(const ChannelMesh& m, const ChannelFlowParams& p) {
+  const int nx = m.nx, rows = m.ny - 1;
+  std::array<std::vector<double>, 2> b = {std::vector<double>(std::size_t(nx) * rows), std::vector<double>(std::size_t(nx) * rows)};
+  for (int r = 0; r < rows; ++r)
+    for (int i = 0; i < nx; ++i) {
+      const double x = i * m.h, y = (r + 1) * m.h;
+      b[0][std::size_t(r) * nx + i] = 1e-3 * (y / p.height) + 2e-4 * std::sin(2 * M_PI * x / p.length);
+      b[1][std::size_t(r) * nx + i] = 3e-4 * std::cos(2 * M_PI * y / p.height) * std::sin(4 * M_PI * x / p.length);
+    }
+  return b;
+}
+
+// max |u − R q| over the disk's collocation points, over max |u| (step 4's result u).
+double rigid_defect(const DiskConstraint& dc, const std::array<std::vector<double>, 2>& u) {
+  const Eigen::Vector3d q = dc.motion()[0];
+  double worst = 0, scale = 0;
+  for (int c = 0; c < 2; ++c)
+    for (double v : u[std::size_t(c)]) scale = std::max(scale, std::abs(v));
+  const DiskPoints& pts = dc.points()[0];
+  auto rigid = [&](int c, const Eigen::Vector2d& o) { return c == 0 ? q[0] - q[2] * o.y() : q[1] + q[2] * o.x(); };
+  for (std::size_t c = 0; c < 2; ++c) {
+    for (const auto& pt : pts.ring) {
+      double s = 0;
+      for (int a = 0; a < pt.count; ++a) s += pt.weights[std::size_t(a)] * u[c][std::size_t(pt.nodes[std::size_t(a)])];
+      worst = std::max(worst, std::abs(s - rigid(int(c), pt.offset)));
+    }
+    for (const auto& pt : pts.deep) worst = std::max(worst, std::abs(u[c][std::size_t(pt.nodes[0])] - rigid(int(c), pt.offset)));
+  }
+  return worst / scale;
+}
+
 // Step 4 with a disk: after the solve the velocity at every collocation point is the rigid motion
 // V + ω × (x − G) to the tolerance, and the multiplier's net force and torque vanish (neutrally
 // buoyant): A u − b, summed over the grid with and without the lever arm.
@@ -35,34 +69,15 @@ TEST(RigidDisks, StepFourHoldsTheDiskRigidWithNoNetForceOrTorque) {
   d.radius = 2.8e-6;
   dc.set_disks({d});
   const int nx = m.nx, rows = m.ny - 1;
-  const std::size_t n = std::size_t(nx) * rows;
-  std::vector<double> b[2] = {std::vector<double>(n), std::vector<double>(n)};
-  for (int r = 0; r < rows; ++r)
-    for (int i = 0; i < nx; ++i) {  // a sheared, swirling right-hand side
-      const double x = i * m.h, y = (r + 1) * m.h;
-      b[0][std::size_t(r) * nx + i] = 1e-3 * (y / p.height) + 2e-4 * std::sin(2 * M_PI * x / p.length);
-      b[1][std::size_t(r) * nx + i] = 3e-4 * std::cos(2 * M_PI * y / p.height) * std::sin(4 * M_PI * x / p.length);
-    }
-  std::vector<double> u[2] = {b[0], b[1]};
+  const std::array<std::vector<double>, 2> b = sheared_rhs(m, p);
+  std::array<std::vector<double>, 2> u = b;
   dc.solve_pair(u[0].data(), u[1].data());
   const Eigen::Vector3d q = dc.motion()[0];
-  // Rigid on the collocation points.
-  double worst = 0, scale = 0;
-  for (int c = 0; c < 2; ++c)
-    for (double v : u[c]) scale = std::max(scale, std::abs(v));
   const DiskPoints& pts = dc.points()[0];
-  auto rigid = [&](int c, const Eigen::Vector2d& o) { return c == 0 ? q[0] - q[2] * o.y() : q[1] + q[2] * o.x(); };
-  for (int c = 0; c < 2; ++c) {
-    for (const auto& pt : pts.ring) {
-      double s = 0;
-      for (int a = 0; a < pt.count; ++a) s += pt.weights[std::size_t(a)] * u[c][std::size_t(pt.nodes[std::size_t(a)])];
-      worst = std::max(worst, std::abs(s - rigid(c, pt.offset)));
-    }
-    for (const auto& pt : pts.deep) worst = std::max(worst, std::abs(u[c][std::size_t(pt.nodes[0])] - rigid(c, pt.offset)));
-  }
+  const double worst = rigid_defect(dc, u);
   std::printf("[ measured ] %zu ring points, %zu deep nodes; defect %.2e of max |u| after %d iteration(s); V = (%.3e, %.3e) m/s, omega = %.3e 1/s\n",
-              pts.ring.size(), pts.deep.size(), worst / scale, dc.last().iterations, q[0], q[1], q[2]);
-  EXPECT_LE(worst / scale, 1e-10);
+              pts.ring.size(), pts.deep.size(), worst, dc.last().iterations, q[0], q[1], q[2]);
+  EXPECT_LE(worst, 1e-10);
   EXPECT_EQ(dc.last().iterations, 1);  // one disk: its capacitance system is the whole system
   // Net force and torque of the multiplier: f = A u − b at every node.
   const double diag = p.fluid.density * m.h * m.h / p.dt + 4 * p.fluid.viscosity, mu = p.fluid.viscosity;
@@ -89,6 +104,39 @@ TEST(RigidDisks, StepFourHoldsTheDiskRigidWithNoNetForceOrTorque) {
   EXPECT_LE(std::abs(net[0]) / total, 1e-10);
   EXPECT_LE(std::abs(net[1]) / total, 1e-10);
   EXPECT_LE(std::abs(net[2]) / d.radius / total, 1e-10);
+}
+
+// The boundary's collocation points about s h apart ([solver] disk_boundary_spacing): an even
+// count of at least 8 near 2πr/(s h), and step 4 still holds the disk rigid on all of them at 2
+// and 4 h (half and a quarter of the method's points). At 0.5 h (two points a mesh cell) the
+// points over-determine the multiplier and the disk's capacitance matrix is refused as singular.
+TEST(RigidDisks, BoundaryPointsFollowTheirSpacingAndStepFourStaysRigid) {
+  const ChannelFlowParams p = channel(20e-6, 20e-6, 0.25e-6, 2e-6);
+  ChannelFlow flow(p);
+  const ChannelMesh& m = flow.mesh();
+  Disk d;
+  d.center = {9.3e-6, 10.6e-6};
+  d.radius = 2.8e-6;
+  EXPECT_EQ(boundary_point_count(d.radius, m.h, 1.0), 72);  // 2π 2.8/0.25 = 70.4 -> 71 -> even
+  EXPECT_EQ(boundary_point_count(0.3e-6, m.h, 4.0), 8);     // at least 8
+  {
+    DiskConstraint dense(m, flow.diffusion().helmholtz(), p.fluid.density, p.dt, 1e-10, DiskConstraint::kMaxIterations, 0.5);
+    EXPECT_THROW(dense.set_disks({d}), std::runtime_error);
+  }
+  for (double spacing : {4.0, 2.0}) {
+    DiskConstraint dc(m, flow.diffusion().helmholtz(), p.fluid.density, p.dt, 1e-10, DiskConstraint::kMaxIterations, spacing);
+    dc.set_disks({d});
+    const int expected = boundary_point_count(d.radius, m.h, spacing);
+    EXPECT_EQ(expected % 2, 0);
+    EXPECT_NEAR(expected, 2 * M_PI * d.radius / (spacing * m.h), 2.0);
+    const auto& ring = dc.points()[0].ring;
+    EXPECT_EQ(std::count_if(ring.begin(), ring.end(), [](const DiskPoints::Point& pt) { return pt.count == 4; }), expected);
+    std::array<std::vector<double>, 2> u = sheared_rhs(m, p);
+    dc.solve_pair(u[0].data(), u[1].data());
+    const double defect = rigid_defect(dc, u);
+    std::printf("[ measured ] spacing %g h: %d boundary points, defect %.2e of max |u|\n", spacing, expected, defect);
+    EXPECT_LE(defect, 1e-10);
+  }
 }
 
 // A disk at mid-height of a plane shear flow (walls at ∓U) stays there and spins at −γ̇/2, the

@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "common/case_runner.hpp"
+#include "fictitious_domain/rigid_disks.hpp"
 #include "io/csv.hpp"
 #include "mesh/channel_mesh.hpp"
 #include "reference/uncertainty.hpp"
@@ -88,6 +89,9 @@ double dt_of_level(const std::string& name) {
 // reaches on this machine): 1.5 us, the 1000 k_b cells 0.75 us. Finer levels are evidence.
 std::string reported_level(const std::string& base) { return base + (base == "kb1000" ? "_dt0.75us" : "_dt1.5us"); }
 
+// The four disks with their boundary points spacing h apart (kRingSpacings): "disks_ring2h".
+std::string ring_case(double spacing) { return "disks_ring" + num(spacing) + "h"; }
+
 }  // namespace
 
 Scene case_scene(const Case& c, bool quick) {
@@ -121,6 +125,7 @@ Scene case_scene(const Case& c, bool quick) {
   if (!c.coupling.empty()) o.push_back("time.coupling=\"" + c.coupling + "\"");
   if (!c.projection.empty()) o.push_back("time.projection=\"" + c.projection + "\"");
   if (!c.scheme.empty()) o.push_back("time.scheme=\"" + c.scheme + "\"");
+  if (c.ring_spacing > 0) o.push_back("solver.disk_boundary_spacing=" + num(c.ring_spacing));
   const double end = c.end > 0 ? c.end : quick ? kQuickEnd : 0;
   if (end > 0) {
     o.push_back("time.end=" + num(end));
@@ -233,6 +238,12 @@ std::vector<Case> cases(const Params& p) {
     a.h = b.h = 0.625e-6;
     v.push_back(a);
     v.push_back(b);
+    for (double spacing : kRingSpacings) {  // the disks in their own resolution, at the reported Δt
+      Case c = disks(ring_case(spacing), "evidence");
+      c.dt = dt_of_level(reported_level("disks"));
+      c.ring_spacing = spacing;
+      v.push_back(c);
+    }
   }
   if (p.evidence && !p.quick) {
     // One disk against Pan & Glowinski (2002): Δt halved twice at h = W/128, h halved twice at
@@ -643,6 +654,42 @@ std::string paired_table(const Params& p, const Results& res) {
   return md.str();
 }
 
+// The four disks in their own resolution: the distance row at the disks' reported Δt with the
+// boundary's collocation points s h apart (the method's 1 h and kRingSpacings), its change from
+// 1 h, and the estimator's fit over the three spacings (ratio 2, formal order 1).
+std::string ring_table(const Results& res) {
+  auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
+  const std::string reported = reported_level("disks");
+  if (!ok(reported)) return "";
+  std::vector<std::pair<double, std::string>> levels = {{1.0, reported}};
+  for (double s : kRingSpacings)
+    if (ok(ring_case(s))) levels.push_back({s, ring_case(s)});
+  if (levels.size() < 2) return "";
+  std::sort(levels.begin(), levels.end());  // finest first
+  const CaseResult& at1 = res.cases.at(reported);
+  std::ostringstream md;
+  md << "\nThe four disks in their own resolution (Δt = " << at1.dt * 1e6 << " us, h = " << at1.h * 1e6
+     << " um; disks_ring<s>h): the collocation points on each disk's boundary s h apart (the method's: 1 h, the reported run), "
+        "the mean distance from the centreline over the row's window:\n\n| spacing (h) | points on a boundary | case | distance (um) | − 1 h (um) |\n|---|---|---|---|---|\n";
+  std::vector<double> finest_first;
+  for (const auto& [s, name] : levels) {
+    const double d = row_value(res.cases.at(name), false);
+    finest_first.push_back(d);
+    char row[200];
+    std::snprintf(row, sizeof row, "| %g | %d | %s | %.4f | %+.4f |\n", s, boundary_point_count(kDiskRadius, at1.h, s), name.c_str(), d,
+                  d - row_value(at1, false));
+    md << row;
+  }
+  bool ratio2 = levels.size() == 3;
+  for (std::size_t k = 1; k < levels.size(); ++k) ratio2 = ratio2 && levels[k].first == 2 * levels[k - 1].first;
+  if (ratio2) {  // the finest level is the reported run (1 h)
+    RefinementUncertainty u = grid_convergence_index(finest_first, 2.0, 1.0);
+    u.label = "spacing 1/2/4 h";
+    md << "\n" << u.describe(2) << "\n";
+  }
+  return md.str();
+}
+
 std::string spread_table(const Params& p, const Results& res) {
   std::ostringstream md;
   auto ok = [&](const std::string& n) { return res.cases.count(n) && res.cases.at(n).failure.empty(); };
@@ -996,7 +1043,7 @@ Results run(const Params& p) {
     trajectory_md = validation_trajectory_table(res, pg_name(128, finest));
   }
   if (!p.study_only) {  // the ensemble and the Δt sequences are the evidence's
-    res.spread_md = spread_table(p, res) + paired_table(p, res) + trajectory_md;
+    res.spread_md = spread_table(p, res) + paired_table(p, res) + ring_table(res) + trajectory_md;
     std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;
   }
   {  // The runs the figures draw: each case's reported run (plot.gp).

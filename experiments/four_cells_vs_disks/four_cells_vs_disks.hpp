@@ -49,6 +49,10 @@
 //                                             (kIncrementalDts), beside the study's form
 //   pg2002_h*_dt*                             one disk against Pan & Glowinski (2002): the
 //                                             validation of our disks over Δt and h
+//   disks_ring<s>h                            the four disks with their boundary's collocation
+//                                             points s h apart (kRingSpacings: 2 and 4; the
+//                                             method's is 1 h), at the disks' reported Δt: their
+//                                             convergence in the disk's own resolution
 //
 // Run:  build/bin/four_cells_vs_disks --check            (every case, one after the other)
 //       build/bin/four_cells_vs_disks --list-cases | parallel -j2 build/bin/four_cells_vs_disks --only {} --threads 1
@@ -101,6 +105,10 @@ inline constexpr double kExplicitDt = 6e-8, kExplicitEnd = 0.2;
 // (kb1_inc_dt<l>us, the study's places, to 200 ms): the Δt levels, s, coarsest first. Beside the
 // study's form and the explicit run: which form's Δt error is the smaller on these cells.
 inline const std::vector<double> kIncrementalDts = {6e-6, 3e-6, 1.5e-6};
+// The four disks' boundary points over their spacing (disks_ring<s>h, in h; the method's 1 h is
+// the reported run itself), at the disks' reported Δt: coarser only, since below about h apart
+// the points over-determine the multiplier (rigid_disks.hpp).
+inline const std::vector<double> kRingSpacings = {2.0, 4.0};
 
 struct Case {
   std::string name;
@@ -113,6 +121,7 @@ struct Case {
   std::string projection;      // the pressure's form ("study", "incremental"); empty: the scene file's
   std::string scheme;          // the time scheme ("lie", "lie-extrapolated"); empty: the scene file's
   std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
+  double ring_spacing = 0;     // the disks' boundary points, h apart ([solver] disk_boundary_spacing); 0: the scene's
   bool reported = false;       // the run the study's rows and figures read: the case's finest Δt
 };
 

@@ -26,7 +26,12 @@ double read(const double* u, const DiskPoints::Point& p) {
 
 }  // namespace
 
-DiskPoints disk_points(const ChannelMesh& m, const Disk& disk) {
+int boundary_point_count(double r, double h, double spacing) {
+  const int n = std::max(8, int(std::ceil(2 * std::numbers::pi * r / (spacing * h))));
+  return n + n % 2;
+}
+
+DiskPoints disk_points(const ChannelMesh& m, const Disk& disk, double boundary_spacing) {
   const double h = m.h, r = disk.radius, gx = disk.center.x(), gy = disk.center.y();
   if (gy - r < h || gy + r > m.height - h)
     throw std::invalid_argument("rigid disk at (" + std::to_string(gx * 1e6) + ", " + std::to_string(gy * 1e6) + ") um, radius " +
@@ -46,11 +51,8 @@ DiskPoints disk_points(const ChannelMesh& m, const Disk& disk) {
         inside_offset.push_back(o);
       }
     }
-  // Points on ∂ω about h apart, bilinear.
-  // An even count: the points are then symmetric under the half turn about G as well as the
-  // reflection about its x1-line (a disk at the centre of a shear flow feels no lift from them).
-  int nb = std::max(8, int(std::ceil(2 * std::numbers::pi * r / h)));
-  nb += nb % 2;
+  // Points on ∂ω about s h apart (s = boundary_spacing), bilinear.
+  const int nb = boundary_point_count(r, h, boundary_spacing);
   std::vector<DiskPoints::Point> boundary;
   std::vector<int> stencil;
   for (int b = 0; b < nb; ++b) {
@@ -89,8 +91,14 @@ DiskPoints disk_points(const ChannelMesh& m, const Disk& disk) {
 }
 
 DiskConstraint::DiskConstraint(const ChannelMesh& mesh, PeriodicBandedSolver& A, double rho, double dt, double tolerance,
-                               int max_iterations)
-    : m_(mesh), A_(A), green_(A), c_(rho * mesh.h * mesh.h / dt), tolerance_(tolerance), max_iterations_(max_iterations) {
+                               int max_iterations, double boundary_spacing)
+    : m_(mesh),
+      A_(A),
+      green_(A),
+      c_(rho * mesh.h * mesh.h / dt),
+      tolerance_(tolerance),
+      max_iterations_(max_iterations),
+      boundary_spacing_(boundary_spacing) {
   for (auto& r : rhs_) r.assign(std::size_t(A.nx()) * A.rows(), 0.0);
 }
 
@@ -100,7 +108,7 @@ void DiskConstraint::set_disks(const std::vector<Disk>& disks) {
   factors_.clear();
   q_.assign(disks.size(), Eigen::Vector3d::Zero());
   for (const Disk& disk : disks) {
-    const DiskPoints p = disk_points(m_, disk);
+    const DiskPoints p = disk_points(m_, disk, boundary_spacing_);
     const int nr = int(p.ring.size()), nd = int(p.deep.size());
     Factors f;
     // Every point's nodes as (interior row, column), found once: the table is read for every pair

@@ -13,7 +13,10 @@
 // obstacles (dlm_obstacle_step.hpp), where q = 0 and the last equation is absent.
 //
 // Collocation points (GPHJ): the mesh nodes inside ω farther than h/2 from ∂ω, and points on ∂ω
-// about h apart, read and spread by bilinear interpolation. The nodes split as for the obstacles:
+// about s h apart (s = boundary_spacing, 1 by default: GPHJ's choice; coarser s test how the
+// disks' motion converges in them), read and spread by bilinear interpolation. Closer than about
+// h apart the points' bilinear stencils and the ring nodes over-determine the multiplier: S_R
+// below is then singular (measured: a disk of radius 2.8 um at h = 0.3125 um from 0.8 h). The nodes split as for the obstacles:
 // a deep node d (its four neighbours collocation nodes, in no boundary point's stencil) has
 // (A u)_d = (ρh²/Δt) (R q)_d (the 5-point Laplacian of a rigid motion vanishes), so
 //
@@ -61,13 +64,20 @@ struct DiskPoints {
   std::vector<Point> deep;        // deep nodes (count 1)
   int interior_nodes = 0;         // ring nodes + deep nodes
 };
-DiskPoints disk_points(const ChannelMesh& mesh, const Disk& disk);
+// The number of points on the boundary of a disk of radius r (m) about spacing · h apart: an
+// even count, at least 8 (an even count is symmetric under the half turn about G as well as the
+// reflection about its x1-line: a disk at the centre of a shear flow feels no lift from them).
+int boundary_point_count(double r, double h, double spacing);
+// boundary_spacing: the points on ∂ω about boundary_spacing · h apart (boundary_point_count).
+DiskPoints disk_points(const ChannelMesh& mesh, const Disk& disk, double boundary_spacing = 1.0);
 
 class DiskConstraint : public Step4Constraint {
  public:
-  // A: step 4's unconstrained Helmholtz solver; rho (kg/m³), dt (s): its diagonal's ρh²/Δt.
+  // A: step 4's unconstrained Helmholtz solver; rho (kg/m³), dt (s): its diagonal's ρh²/Δt;
+  // boundary_spacing (in h): disk_points'.
+  static constexpr int kMaxIterations = 100;  // block-Jacobi iterations before a solve gives up
   DiskConstraint(const ChannelMesh& mesh, PeriodicBandedSolver& A, double rho, double dt, double tolerance,
-                 int max_iterations = 100);
+                 int max_iterations = kMaxIterations, double boundary_spacing = 1.0);
   // The disks where step 4 will hold them (rebuilds their points and factors; at every step).
   void set_disks(const std::vector<Disk>& disks);
   void solve_pair(double* b1, double* b2) override;
@@ -100,6 +110,7 @@ class DiskConstraint : public Step4Constraint {
   double c_;  // ρh²/Δt, N s/m³ · m² (A's mass part)
   double tolerance_;
   int max_iterations_;
+  double boundary_spacing_;  // h
   std::vector<Disk> disks_;
   std::vector<DiskPoints> points_;
   std::vector<Factors> factors_;

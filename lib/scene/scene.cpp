@@ -29,8 +29,8 @@ const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> s = {
       {"fluid", {"density", "viscosity"}},
       {"channel", {"length", "height", "mesh_size", "reynolds", "body_force", "wall_velocity"}},
-      {"time", {"dt", "end", "coupling", "advection_substeps", "projection", "scheme"}},
-      {"solver", {"pressure_preconditioner", "cg_tolerance", "cg_max_iterations", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance"}},
+      {"time", {"dt", "end", "coupling", "advection_substeps", "projection", "scheme", "extrapolate_pressure"}},
+      {"solver", {"pressure_preconditioner", "cg_tolerance", "cg_max_iterations", "coupling_tolerance", "obstacle_tolerance", "obstacle_preconditioner", "disk_tolerance", "disk_boundary_spacing"}},
       {"output", {"every", "vtk", "vtk_every", "snapshots", "fields", "frames"}},
       {"contact", {"range", "strength"}},
       {"repulsion", {"range", "strength"}},
@@ -394,6 +394,9 @@ void read_flow(const Reader& r, Scene& s) {
   // The pressure's form: the study's by default, the incremental one with obstacles (below).
   s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
   s.scheme = r.word("time", "scheme", {"lie", "lie-extrapolated"}, s.scheme);
+  s.extrapolate_pressure = r.boolean("time", "extrapolate_pressure", s.extrapolate_pressure);
+  if (!s.extrapolate_pressure && s.scheme != "lie-extrapolated")
+    r.fail("[time] extrapolate_pressure", "is a choice of scheme = \"lie-extrapolated\" only (the scheme here: \"" + s.scheme + "\")");
 }
 
 // [solver]
@@ -405,6 +408,7 @@ void read_solver(const Reader& r, Scene& s) {
   s.obstacle_tolerance = r.number("solver", "obstacle_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.obstacle_tolerance);
   s.obstacle_preconditioner = r.word("solver", "obstacle_preconditioner", {"capacitance", "none"}, s.obstacle_preconditioner);
   s.disk_tolerance = r.number("solver", "disk_tolerance", "(relative velocity)", 1e-15, 1e-2, false, s.disk_tolerance);
+  s.disk_boundary_spacing = r.number("solver", "disk_boundary_spacing", "(h)", 1.0, 4.0, false, s.disk_boundary_spacing);
 }
 
 // [contact] (the disks') and [repulsion] (the membranes')
@@ -703,9 +707,11 @@ std::string scene_to_toml(const Scene& s) {
   o << "[time]\ndt = " << num(s.dt) << "\nend = " << num(s.end) << "\ncoupling = \"" << s.coupling
     << "\"\nadvection_substeps = " << s.advection_substeps << "\nprojection = \"" << s.projection << "\"\n";
   if (s.scheme != "lie") o << "scheme = \"" << s.scheme << "\"\n";  // (the study's scheme: the line as before it existed)
+  if (!s.extrapolate_pressure) o << "extrapolate_pressure = false\n";  // (likewise)
   o << "[solver]\npressure_preconditioner = \"" << s.pressure_preconditioner << "\"\ncg_tolerance = " << num(s.cg_tolerance)
     << "\ncg_max_iterations = " << s.cg_max_iterations << "\ncoupling_tolerance = " << num(s.coupling_tolerance) << "\nobstacle_tolerance = " << num(s.obstacle_tolerance)
     << "\nobstacle_preconditioner = \"" << s.obstacle_preconditioner << "\"\ndisk_tolerance = " << num(s.disk_tolerance) << "\n";
+  if (s.disk_boundary_spacing != 1.0) o << "disk_boundary_spacing = " << num(s.disk_boundary_spacing) << "\n";  // (as the scheme line)
   o << "[contact]\nrange = " << num(s.contact_range > 0 ? s.contact_range : 2 * s.mesh_size) << "\nstrength = " << num(s.contact_strength) << "\n";
   o << "[repulsion]\nrange = " << num(s.repulsion_range > 0 ? s.repulsion_range : s.mesh_size) << "\nstrength = " << num(s.repulsion_strength) << "\n";
   o << "[output]\nevery = " << num(s.sample_interval()) << "\nvtk = " << (s.vtk ? "true" : "false") << "\nvtk_every = " << num(s.vtk_interval())

@@ -33,7 +33,8 @@
 //   [[disk]]  center = [x, y] (m), radius (m): a neutrally buoyant rigid disk moving freely with
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
 //             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
-//             relative to the field's largest). Disks and obstacles in one scene are not
+//             relative to the field's largest), disk_boundary_spacing (the collocation points on
+//             each disk's boundary about that many h apart; 1: the method's choice). Disks and obstacles in one scene are not
 //             supported yet. Use the study's pressure form with disks ([time] projection =
 //             "study", the default): the incremental form's lagged pressure pushes a spinning,
 //             moving disk sideways at ≈ ω V Δt (tests/test_rigid_disks.cpp).
@@ -96,6 +97,10 @@ struct Scene {
   // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order with projection "incremental", about 1.4 with the
   // study's form; not in the study: paper/method/07_second_order_in_time.md).
   std::string scheme = "lie";
+  // In "lie-extrapolated": whether the pressure is extrapolated with the rest of the state (true)
+  // or taken from the two half steps (false: an evidence run of chapter 7, where extrapolating it
+  // is what grows unstable next to fixed obstacles; first order in the velocity there).
+  bool extrapolate_pressure = true;
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;
   int cg_max_iterations = 200;  // the Laplacian preconditioner's CG: a run whose CG stops short of cg_tolerance stops
@@ -123,6 +128,7 @@ struct Scene {
   // Freely moving rigid disks (empty: none of it is built).
   std::vector<DiskSpec> disks;
   double disk_tolerance = 1e-10;
+  double disk_boundary_spacing = 1.0;  // h
   // The disks' contact force (Simulation::contact_forces). Strength: 1e-3 N/m, about 100 times the
   // drag on a disk of radius 2.8 um moving across the flow at 1 mm/s (≈ 10 μ v per unit length),
   // the lateral speeds of the study's migrations; range: 2h, so that it acts before the run's

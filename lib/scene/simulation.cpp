@@ -31,7 +31,8 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
       disks_.push_back(disk);
     }
     disk_constraint_ = std::make_unique<DiskConstraint>(flow_.mesh(), flow_.diffusion().helmholtz(), scene.fluid.density, scene.dt,
-                                                        scene.disk_tolerance);
+                                                        scene.disk_tolerance, DiskConstraint::kMaxIterations,
+                                                        scene.disk_boundary_spacing);
     flow_.diffusion().set_constraint(disk_constraint_.get());
     if (coupling_) coupling_->set_fluid_not_x1_invariant();
   }
@@ -103,7 +104,10 @@ void Simulation::extrapolate_with(const Simulation& finer) {
   };
   each(flow_.velocity().u1, finer.flow_.velocity().u1);
   each(flow_.velocity().u2, finer.flow_.velocity().u2);
-  each(flow_.pressure(), finer.flow_.pressure());
+  if (scene_.extrapolate_pressure)
+    each(flow_.pressure(), finer.flow_.pressure());
+  else  // the half steps' (Scene::extrapolate_pressure)
+    flow_.pressure() = finer.flow_.pressure();
   for (std::size_t k = 0; k < cells_.size(); ++k) each(cells_[k].nodes, finer.cells_[k].nodes);
   for (std::size_t d = 0; d < disks_.size(); ++d) {
     const Disk& f = finer.disks_[d];
