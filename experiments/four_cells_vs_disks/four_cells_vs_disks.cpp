@@ -675,9 +675,9 @@ std::string ring_table(const Results& res) {
   for (const auto& [s, name] : levels) {
     const double d = row_value(res.cases.at(name), false);
     finest_first.push_back(d);
-    char row[200];
-    std::snprintf(row, sizeof row, "| %g | %d | %s | %.4f | %+.4f |\n", s, boundary_point_count(kDiskRadius, at1.h, s), name.c_str(), d,
-                  d - row_value(at1, false));
+    char row[200], change[32] = "—";
+    if (name != reported) std::snprintf(change, sizeof change, "%+.4f", d - row_value(at1, false));
+    std::snprintf(row, sizeof row, "| %g | %d | %s | %.4f | %s |\n", s, boundary_point_count(kDiskRadius, at1.h, s), name.c_str(), d, change);
     md << row;
   }
   bool ratio2 = levels.size() == 3;
