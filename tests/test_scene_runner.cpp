@@ -319,6 +319,20 @@ TEST(SceneRunner, AFinishedRunIsReusedOnlyForItsOwnScheme) {
   EXPECT_TRUE(read_finished_run(out.string(), scene).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), parse_scene(kGood, "scene.toml", {"time.projection=\"incremental\""})).has_value());
   EXPECT_FALSE(read_finished_run(out.string(), extrapolated).has_value());
+  // The extrapolated scheme's pressure choice and a disk's boundary points are told apart too (a
+  // summary without them: their defaults).
+  const auto other = std::filesystem::temp_directory_path() / "rbcflow_runner_reuse_keys";
+  std::filesystem::remove_all(other);
+  const Scene half_pressure = parse_scene(kGood, "scene.toml", {"time.scheme=\"lie-extrapolated\"", "time.extrapolate_pressure=false"});
+  run_scene(half_pressure, {.out_dir = other.string(), .threads = 1, .progress = false});
+  EXPECT_TRUE(read_finished_run(other.string(), half_pressure).has_value());
+  EXPECT_FALSE(read_finished_run(other.string(), extrapolated).has_value());
+  const std::string disk = kGood + "[[disk]]\ncenter = [2e-6, 1e-6]\nradius = 0.6e-6\n";
+  const Scene one_h = parse_scene(disk, "scene.toml"), two_h = parse_scene(disk, "scene.toml", {"solver.disk_boundary_spacing=2"});
+  std::filesystem::remove_all(other);
+  run_scene(two_h, {.out_dir = other.string(), .threads = 1, .progress = false});
+  EXPECT_TRUE(read_finished_run(other.string(), two_h).has_value());
+  EXPECT_FALSE(read_finished_run(other.string(), one_h).has_value());
   // The resolved scene names the scheme only when it is not the study's (so that the study's
   // resolved scenes read as before the key), and reads back to the same scene.
   EXPECT_EQ(scene_to_toml(scene).find("scheme"), std::string::npos);

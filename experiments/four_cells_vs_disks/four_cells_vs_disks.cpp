@@ -670,7 +670,7 @@ std::string ring_table(const Results& res) {
   std::ostringstream md;
   md << "\nThe four disks in their own resolution (Δt = " << at1.dt * 1e6 << " us, h = " << at1.h * 1e6
      << " um; disks_ring<s>h): the collocation points on each disk's boundary s h apart (the method's: 1 h, the reported run), "
-        "the mean distance from the centreline over the row's window:\n\n| spacing (h) | points on a boundary | case | distance (um) | − 1 h (um) |\n|---|---|---|---|---|\n";
+        "the mean distance from the centreline over the row's window:\n\n| spacing (h) | points on a boundary | case | distance (um) | change from 1 h (um) |\n|---|---|---|---|---|\n";
   std::vector<double> finest_first;
   for (const auto& [s, name] : levels) {
     const double d = row_value(res.cases.at(name), false);

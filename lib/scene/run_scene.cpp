@@ -663,6 +663,8 @@ void write_summary(const fs::path& path, const Scene& scene, const Simulation& s
   j["coupling"] = scene.coupling;
   j["projection"] = scene.projection;
   j["scheme"] = scene.scheme;
+  j["extrapolate_pressure"] = scene.extrapolate_pressure;
+  if (!scene.disks.empty()) j["disk_boundary_spacing"] = scene.disk_boundary_spacing;
   if (coupling_by_gmres(scene)) {  // how GMRES solves and its tolerance: they change the bits
     j["coupling_options"] = describe(CouplingOptions{});
     j["coupling_tolerance"] = scene.coupling_tolerance;
@@ -787,9 +789,12 @@ std::optional<RunSummary> read_finished_run(const std::string& dir, const Scene&
     const nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
     if (!any_code && j.value("code", std::string()) != code_id()) return std::nullopt;  // other code: run again
     // (A summary without "projection" is older than the incremental form's key: the study's form;
-    // one without "scheme" older than the extrapolated scheme: the study's Lie scheme.)
+    // one without "scheme" older than the extrapolated scheme: the study's Lie scheme; without
+    // "extrapolate_pressure" or "disk_boundary_spacing", older than those keys: their defaults.)
     if (j.at("scene") != scene.source || j.at("dt") != scene.dt || j.at("coupling") != scene.coupling ||
         j.value("projection", std::string("study")) != scene.projection || j.value("scheme", std::string("lie")) != scene.scheme ||
+        j.value("extrapolate_pressure", true) != scene.extrapolate_pressure ||
+        (!scene.disks.empty() && j.value("disk_boundary_spacing", 1.0) != scene.disk_boundary_spacing) ||
         std::abs(j.at("t_end").get<double>() - scene.end) > scene.dt)  // the run ends at the first step at or past end
       return std::nullopt;
     // How the coupling's GMRES solves and where it stops change the run like a start perturbation

@@ -99,7 +99,8 @@ struct Scene {
   std::string scheme = "lie";
   // In "lie-extrapolated": whether the pressure is extrapolated with the rest of the state (true)
   // or taken from the two half steps (false: an evidence run of chapter 7, where extrapolating it
-  // is what grows unstable next to fixed obstacles; first order in the velocity there).
+  // is what grows unstable next to fixed obstacles; first order in the velocity there). It
+  // changes a run only in the incremental form, whose step 4 reads the last pressure.
   bool extrapolate_pressure = true;
   std::string pressure_preconditioner = "schur";
   double cg_tolerance = 1e-10;

@@ -41,6 +41,7 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
   if (scene.scheme == "lie-extrapolated") {
     Scene half = scene;
     half.scheme = "lie";
+    half.extrapolate_pressure = true;  // (a choice of the extrapolated scheme, not of its half steps)
     half.dt = scene.dt / 2;
     half_step_ = std::make_unique<Simulation>(half, options);
   }
