@@ -16,9 +16,10 @@
 // about s h apart (s = boundary_spacing, 1 by default: GPHJ's choice; coarser s test how the
 // disks' motion converges in them), read and spread by bilinear interpolation. Closer than about
 // h apart the points' bilinear stencils and the ring nodes over-determine the multiplier: S_R
-// below is then singular (measured: a disk of radius 2.8 um at h = 0.3125 um from 0.8 h). The nodes split as for the obstacles:
-// a deep node d (its four neighbours collocation nodes, in no boundary point's stencil) has
-// (A u)_d = (ρh²/Δt) (R q)_d (the 5-point Laplacian of a rigid motion vanishes), so
+// below is then singular (measured: a disk of radius 2.8 um at h = 0.3125 um from 0.8 h).
+// The nodes split as for the obstacles: a deep node d (its four neighbours collocation nodes, in
+// no boundary point's stencil) has (A u)_d = (ρh²/Δt) (R q)_d (the 5-point Laplacian of a rigid
+// motion vanishes), so
 //
 //   λ_d = (ρh²/Δt) (R q)_d − b_d     in closed form,
 //
