@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "fictitious_domain/dlm_obstacle_step.hpp"
+#include "io/csv.hpp"
 #include "scene/run_scene.hpp"
 
 namespace rbc {
@@ -345,20 +346,11 @@ TEST(FictitiousDomain, TheExtrapolatedSchemeGrowsUnstableNextToObstaclesThroughI
     if (!extrapolated) continue;
     // The flux mismatch after every step (mismatch[k]: after step k + 1; the row at rest has no
     // flux), and the ratios of its successive changes over steps 31-92.
-    std::ifstream series(out / "series.csv");
-    std::string line;
-    std::getline(series, line);  // units
-    std::getline(series, line);  // header
-    std::vector<std::string> names;
-    for (std::stringstream h(line); std::getline(h, line, ',');) names.push_back(line);
-    const auto wide = std::find(names.begin(), names.end(), "wide_flux") - names.begin();
-    const auto narrow = std::find(names.begin(), names.end(), "narrow_flux") - names.begin();
+    const std::string series = (out / "series.csv").string();
+    const std::vector<double> wide = csv_column(series, "wide_flux"), narrow = csv_column(series, "narrow_flux");
     std::vector<double> mismatch;
-    while (std::getline(series, line)) {
-      std::vector<double> v;
-      for (std::stringstream r(line); std::getline(r, line, ',');) v.push_back(std::stod(line));
-      if (v[std::size_t(wide)] != 0) mismatch.push_back(v[std::size_t(narrow)] / v[std::size_t(wide)] - 1);
-    }
+    for (std::size_t k = 0; k < wide.size(); ++k)
+      if (wide[k] != 0) mismatch.push_back(narrow[k] / wide[k] - 1);
     ASSERT_GE(mismatch.size(), 92u);
     double lo = 0, hi = -2;
     for (std::size_t k = 30; k < 90; ++k) {

@@ -34,8 +34,8 @@
 //             the flow, held rigid by the fictitious-domain method (lib/fictitious_domain/
 //             rigid_disks.hpp). [solver] disk_tolerance (the velocity defect left on the disks,
 //             relative to the field's largest), disk_boundary_spacing (the collocation points on
-//             each disk's boundary about that many h apart; 1: the method's choice). Disks and obstacles in one scene are not
-//             supported yet. Use the study's pressure form with disks ([time] projection =
+//             each disk's boundary about that many h apart; 1: the method's choice). Disks and
+//             obstacles in one scene are not supported yet. Use the study's pressure form with disks ([time] projection =
 //             "study", the default): the incremental form's lagged pressure pushes a spinning,
 //             moving disk sideways at ≈ ω V Δt (tests/test_rigid_disks.cpp).
 #include <algorithm>
