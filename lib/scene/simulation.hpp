@@ -74,6 +74,8 @@ class Simulation {
   void check_health();
 
   const ChannelFlow& flow() const { return flow_; }
+  // The fluid's state (u, p) for analyses that set it between steps (tests: the linearised step).
+  ChannelFlow& flow() { return flow_; }
   const Scene& scene() const { return scene_; }
   const std::vector<Cell>& cells() const { return cells_; }
   const MembraneModel& membrane() const { return model_; }
