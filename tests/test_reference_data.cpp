@@ -480,6 +480,11 @@ TEST(ReferenceData, ChaoticRowIsJudgedAsADistributionOfItsMembers) {
   // tolerance (0.21): UNRESOLVED.
   s = compare_with_reference(rows, ensemble({2.0, 3.0, 4.0, 2.5, 3.5, 4.4}, 0.0), {}, true);
   EXPECT_EQ(s.unresolved, 1) << s.rows[0].note;
+  // How many members would decide: n (u/T)² = 6 (2 s/√6 / 0.21)² = 4 s²/0.21², u falling as 1/√n.
+  const double wide_s = ensemble_statistics(ensemble({2.0, 3.0, 4.0, 2.5, 3.5, 4.4}, 0.0)["cfl"].ensemble, 0.0).s;
+  char needed[64];
+  std::snprintf(needed, sizeof needed, "about %.2g members would decide", std::ceil(4 * wide_s * wide_s / (0.21 * 0.21)));
+  EXPECT_NE(s.rows[0].note.find(needed), std::string::npos) << needed << " | " << s.rows[0].note;
   // |z| ≤ 2 but the mean beyond the tolerance's reach: mean 3.42, s = 0.2, z = −1.94,
   // |m − study| = 0.42 > T + 2 s/√6 = 0.37: UNEXPLAINED.
   s = compare_with_reference(rows, ensemble({3.137, 3.279, 3.42, 3.42, 3.561, 3.703}, 0.0), {}, true);

@@ -23,8 +23,9 @@
 // distance from our members in units of the spread a new member would have. With n ≥
 // kEnsembleMinimum members: where |z| ≤ 2 (the study's value is a likely member of ours) and the
 // mean is within the tolerance's reach, |m − study| ≤ T + u (u the mean's u_num: 2 s/√n with the
-// Δt part), PASS when u ≤ T and UNRESOLVED when u > T (more members would decide); otherwise
-// DEVIATION or UNEXPLAINED as above (never FAIL: no band is recorded for a distribution's mean).
+// Δt part), PASS when u ≤ T and UNRESOLVED when u > T (about n (u/T)² members would decide,
+// where u falls as 1/√n); otherwise DEVIATION or UNEXPLAINED as above (never FAIL: no band is
+// recorded for a distribution's mean).
 // Fewer members: UNRESOLVED. (The rule was set before any ensemble of six had run.)
 // The band is where our own value is expected from its measured h/Δt error or ensemble spread,
 // not from the distance to the study. Only FAIL makes --check exit 1. A DEVIATION or UNEXPLAINED
