@@ -426,7 +426,7 @@ TEST(FictitiousDomain, TheExtrapolatedStepsGrowingModeNextToObstaclesIsAPressure
     const std::vector<double> F0 = lie(full, 1, &X), H0 = lie(half, 2, &X);
     std::vector<double> d(X.size()), rf(X.size()), rh(X.size()), e(X.size()), x(X.size());
     for (std::size_t k = 0; k < d.size(); ++k) d[k] = std::sin(0.37 * double(k) + 1.0) * scale(k);  // a start with every part
-    double mu = 0, lie_quotient = 0, halves_quotient = 0, residual = 0;
+    double mu = 0, lie_quotient = 0, halves_quotient = 0, residual = 0;  // (rf: L_Δt' d, then the residual)
     for (int it = 0; it < kIterations; ++it) {
       const double norm = std::sqrt(dot(d, d));
       for (double& v : d) v /= norm;
@@ -441,8 +441,8 @@ TEST(FictitiousDomain, TheExtrapolatedStepsGrowingModeNextToObstaclesIsAPressure
       if (it == kIterations - 1) break;  // d: the mode
       for (std::size_t k = 0; k < d.size(); ++k) d[k] = e[k] - d[k];  // (E' − I) d
     }
-    for (std::size_t k = 0; k < d.size(); ++k) residual += (e[k] - mu * d[k]) * (e[k] - mu * d[k]) / (scale(k) * scale(k));
-    residual = std::sqrt(residual);
+    for (std::size_t k = 0; k < d.size(); ++k) rf[k] = e[k] - mu * d[k];  // E' d − μ d
+    residual = std::sqrt(dot(rf, rf));
     // The mode's pressure: its share, its column means (its x1 profile) and their cosine with the
     // profile +1 at the passage's entry a, −1 at its exit b, linear between and back along the
     // wide part (from b through the period L to a + L).

@@ -249,13 +249,15 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       } else if (distance <= allowed + u_mean) {
         const bool decided = u_mean <= allowed;
         c.verdict = decided ? Verdict::Pass : Verdict::Unresolved;
-        // Where u is the members' scatter (2 s/√n, and a Δt part read from the members' means as
-        // noise) it falls as 1/√n: n (u/T)² members would bring it to the tolerance.
-        char needed[160];
-        const double members = std::ceil(double(e.values.size()) * (u_mean / allowed) * (u_mean / allowed));
-        std::snprintf(needed, sizeof needed, "about %.2g members would decide (n (u/T)²: if u_num falls as 1/√n)", members);
-        c.note = std::string(z) + ": the study's value a likely member of ours, the mean within the tolerance's reach" +
-                 (decided ? "" : "; the mean's u_num " + c.u_num + " is larger than the tolerance: " + needed);
+        c.note = std::string(z) + ": the study's value a likely member of ours, the mean within the tolerance's reach";
+        if (!decided) {
+          // Where u is the members' scatter (2 s/√n, and a Δt part read from the members' means as
+          // noise) it falls as 1/√n: n (u/T)² members would bring it to the tolerance.
+          char needed[160];
+          const double members = std::ceil(double(e.values.size()) * (u_mean / allowed) * (u_mean / allowed));
+          std::snprintf(needed, sizeof needed, "about %.2g members would decide (n (u/T)²: if u_num falls as 1/√n)", members);
+          c.note += "; the mean's u_num " + c.u_num + " is larger than the tolerance: " + needed;
+        }
       } else {
         c.verdict = outside;
         c.note = std::string(z) + ": the mean is beyond the tolerance's reach" + believed;
