@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -130,6 +131,7 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   Params p;
   const auto all = cases(p);
   int study = 0, validation = 0;
+  std::map<std::string, int> at_reynolds;  // the validation cases per Re0 of their channel
   std::set<std::string> names;
   for (const Case& c : all) names.insert(c.name);
   for (const Case& c : all) {
@@ -142,6 +144,8 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
       EXPECT_DOUBLE_EQ(s.disks[0].center.y(), 0.4 * s.height) << c.name;
       EXPECT_DOUBLE_EQ(s.length, s.height) << c.name;
       EXPECT_EQ(s.dt, c.dt) << c.name;
+      ASSERT_TRUE(s.reynolds0.has_value()) << c.name;
+      ++at_reynolds[case_runner::num(*s.reynolds0)];
       continue;
     }
     EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
@@ -163,7 +167,9 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
     }
   }
   EXPECT_EQ(study, 6);
-  EXPECT_EQ(validation, 6);
+  // Pan & Glowinski's two cases: four Δt and two coarser h at their Re0 106.09, three and two at 13.91.
+  EXPECT_EQ(validation, 11);
+  EXPECT_EQ(at_reynolds, (std::map<std::string, int>{{"106.09", 6}, {"13.91", 5}}));
   // Every study case has its Δt sequence (u_num's Δt part): 6, 3 and 1.5 us.
   for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"})
     for (const char* suffix : {"", "_dt3us", "_dt1.5us"}) EXPECT_TRUE(names.count(std::string(base) + suffix)) << base << suffix;
@@ -253,22 +259,26 @@ TEST(FourCellsVsDisksExperiment, CasesThroughGnuParallelGiveTheTableOfOneProcess
   fs::remove_all(par);
 }
 
-// The disk's migration-rate rows read Pan & Glowinski's trajectory at its digitized points: each
-// row's value is the point nearest its nominal distance travelled, to the row's 4 digits.
+// The disk's migration-rate rows read Pan & Glowinski's trajectories at their digitized points:
+// each row's value is the point nearest its nominal distance travelled, to the row's 4 digits.
 TEST(FourCellsVsDisksExperiment, DiskTrajectoryRowsAreTheirDigitizedPoints) {
-  const auto points = read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"});
-  ASSERT_GE(points.size(), 10u);
   const auto rows = load_reference_table(reference_table_path("disk_validation"));
-  for (const auto& [id, nominal] : kValidationTravel) {
-    const auto row = std::find_if(rows.begin(), rows.end(), [&](const ReferenceRow& r) { return r.id == id; });
-    ASSERT_NE(row, rows.end()) << id;
-    double s = NAN, x2 = NAN;
-    for (const CsvRecord& p : points)
-      if (std::isnan(s) || std::abs(csv_number(p, 0, "s_over_W") - nominal) < std::abs(s - nominal)) {
-        s = csv_number(p, 0, "s_over_W");
-        x2 = csv_number(p, 1, "x2_over_W");
-      }
-    EXPECT_NEAR(*row->value, x2, 5e-5) << id;
+  for (const DiskValidation& pg : kDiskValidations) {
+    const auto points = read_csv_table(reference_table_path(pg.trajectory), {"s_over_W", "x2_over_W"});
+    ASSERT_GE(points.size(), 10u) << pg.trajectory;
+    for (const auto& [id, nominal] : pg.travel) {
+      const auto row = std::find_if(rows.begin(), rows.end(), [&](const ReferenceRow& r) { return r.id == id; });
+      ASSERT_NE(row, rows.end()) << id;
+      double s = NAN, x2 = NAN;
+      for (const CsvRecord& p : points)
+        if (std::isnan(s) || std::abs(csv_number(p, 0, "s_over_W") - nominal) < std::abs(s - nominal)) {
+          s = csv_number(p, 0, "s_over_W");
+          x2 = csv_number(p, 1, "x2_over_W");
+        }
+      EXPECT_NEAR(*row->value, x2, 5e-5) << id;
+    }
+    EXPECT_NE(std::find_if(rows.begin(), rows.end(), [&](const ReferenceRow& r) { return r.id == pg.equilibrium_id; }), rows.end())
+        << pg.equilibrium_id;
   }
 }
 

@@ -89,6 +89,13 @@ double dt_of_level(const std::string& name) {
 // reaches on this machine): 1.5 us, the 1000 k_b cells 0.75 us. Finer levels are evidence.
 std::string reported_level(const std::string& base) { return base + (base == "kb1000" ? "_dt0.75us" : "_dt1.5us"); }
 
+// One disk of a validation case at h = W/n and Δt: "pg2002_h128_dt1.25e-08".
+std::string validation_name(const DiskValidation& pg, double n, double dt) {
+  char name[96];
+  std::snprintf(name, sizeof name, "%s_h%g_dt%g", pg.prefix.c_str(), n, dt);
+  return name;
+}
+
 // The four disks with their boundary points spacing h apart (kRingSpacings): "disks_ring2h".
 std::string ring_case(double spacing) { return "disks_ring" + num(spacing) + "h"; }
 
@@ -99,6 +106,8 @@ Scene case_scene(const Case& c, bool quick) {
     const std::string path = std::string(RBCFLOW_SOURCE_DIR) + "/experiments/four_cells_vs_disks/" + c.scene_file;
     std::vector<std::string> o;
     if (c.h > 0) o.push_back("channel.mesh_size=" + num(c.h));
+    if (c.reynolds0 > 0) o.push_back("channel.reynolds=" + num(c.reynolds0));
+    if (c.end > 0) o.push_back("time.end=" + num(c.end));
     const int q = c.dt > 0 ? load_scene_file(path, o).advection_substeps_for(c.dt) : 0;
     if (c.dt > 0) {
       o.push_back("time.dt=" + num(c.dt));
@@ -246,20 +255,21 @@ std::vector<Case> cases(const Params& p) {
     }
   }
   if (p.evidence && !p.quick) {
-    // One disk against Pan & Glowinski (2002): Δt halved twice at h = W/128, h halved twice at
-    // the smallest Δt (W = 50 um in the scene).
-    auto pg = [&](double n, double dt) {
-      Case c = disks("", "validation");
-      char name[64];
-      std::snprintf(name, sizeof name, "pg2002_h%g_dt%g", n, dt);
-      c.name = name;
-      c.scene_file = kValidationScene;
-      c.h = 50e-6 / n;
-      c.dt = dt;
-      return c;
-    };
-    for (double dt : {1.25e-8, 2.5e-8, 5e-8, 1e-7}) v.push_back(pg(128, dt));
-    for (double n : {64.0, 32.0}) v.push_back(pg(n, 1.25e-8));
+    // One disk against Pan & Glowinski (2002), at each of their Reynolds numbers: Δt halved at
+    // h = W/128, h halved twice at the finest Δt (W = 50 um in the scene).
+    for (const DiskValidation& pg : kDiskValidations) {
+      auto one = [&](double n, double dt) {
+        Case c = disks(validation_name(pg, n, dt), "validation");
+        c.scene_file = kValidationScene;
+        c.reynolds0 = pg.reynolds0;
+        c.end = pg.end;
+        c.h = 50e-6 / n;
+        c.dt = dt;
+        return c;
+      };
+      for (double dt : pg.dts) v.push_back(one(128, dt));
+      for (double n : {64.0, 32.0}) v.push_back(one(n, pg.dts.front()));
+    }
   }
   if (p.convergence && !p.quick) {
     // Error against run time: the k_b cells with both couplings and the disks,
@@ -426,14 +436,15 @@ double height_after_travel(const CaseResult& r, double s, double W) {
 }
 
 // Our finest disk run's trajectory against Pan & Glowinski's, point by point (their points as
-// digitized, reference-data/disk_validation_trajectory.csv), for the evidence report.
-std::string validation_trajectory_table(const Results& res, const std::string& run) {
+// digitized, reference-data/<pg.trajectory>.csv), for the evidence report.
+std::string validation_trajectory_table(const Results& res, const std::string& run, const DiskValidation& pg) {
   const auto it = res.cases.find(run);
   if (it == res.cases.end() || !it->second.failure.empty()) return "";
   std::ostringstream md;
-  md << "\nThe disk's trajectory against theirs (" << run << "): x2/W after s W travelled; their points as digitized "
-        "(reference-data/disk_validation_trajectory.csv):\n\n| s/W | theirs | ours | ours − theirs |\n|---|---|---|---|\n";
-  for (const CsvRecord& rec : read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"})) {
+  md << "\nThe disk's trajectory against theirs at their Re " << pg.label << " (" << run
+     << "): x2/W after s W travelled; their points as digitized (reference-data/" << pg.trajectory
+     << ".csv):\n\n| s/W | theirs | ours | ours − theirs |\n|---|---|---|---|\n";
+  for (const CsvRecord& rec : read_csv_table(reference_table_path(pg.trajectory), {"s_over_W", "x2_over_W"})) {
     const double s = csv_number(rec, 0, "s_over_W"), theirs = csv_number(rec, 1, "x2_over_W");
     const double ours = height_after_travel(it->second, s, 50e-6);
     char row[160];
@@ -962,86 +973,89 @@ Results run(const Params& p) {
     if (!p.quick && all_present) res.measured["staggered"] = {{}, holds, s + " um; by the first criterion (s* = 0.7 judged too): " + (with_s07 ? "holds" : "does not hold")};
   }
   std::string trajectory_md;
-  // Our disk against Pan & Glowinski (2002): the finest run (h = W/128, Δt = 1.25e-8 s), with its
-  // whole numerical uncertainty — here the mesh is ours to answer for (their mesh is not ours):
-  // Δt by the GCI over the finest three Δt that finished, h by the GCI over W/128, W/64, W/32 at
-  // 1.25e-8 s (first order: the collocation points follow the mesh, about h apart), the window.
-  // Measured twice: the settled height, and the height after s W travelled at their trajectory's
-  // points (the migration's rate, reference-data/disk_validation_trajectory.csv).
-  if (!p.quick) {
-    auto pg_name = [](double n, double dt) {
-      char name[64];
-      std::snprintf(name, sizeof name, "pg2002_h%g_dt%g", n, dt);
-      return std::string(name);
-    };
-    const double finest = ok(pg_name(128, 1.25e-8)) ? 1.25e-8 : 2.5e-8;
-    auto measure = [&](auto value, const std::string& note) -> std::optional<Measured> {
-      auto val = [&](double n, double dt) -> std::optional<double> {
-        if (!ok(pg_name(n, dt))) return std::nullopt;
-        const double v = value(res.cases.at(pg_name(n, dt)));
-        return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
-      };
-      const auto fine = val(128, finest);
-      if (!fine) return std::nullopt;
-      Measured m{*fine, {}, note};
-      std::vector<double> dts, hs;
-      std::string label = "dt";
-      for (double dt : {1.25e-8, 2.5e-8, 5e-8, 1e-7})
-        if (dt >= finest && dts.size() < 3) {
-          if (const auto v = val(128, dt)) {
-            dts.push_back(*v);
-            char dt_us[32];
-            std::snprintf(dt_us, sizeof dt_us, "%s%g", dts.size() > 1 ? "/" : " ", dt * 1e6);
-            label += dt_us;
-          } else {
-            break;
+  // Our disk against Pan & Glowinski (2002), at each of their Reynolds numbers: the finest run
+  // (h = W/128, the finest Δt), with its whole numerical uncertainty — here the mesh is ours to
+  // answer for (their mesh is not ours): Δt by the GCI over the finest three Δt that finished, h by
+  // the GCI over W/128, W/64, W/32 at the finest Δt (first order: the collocation points follow the
+  // mesh, about h apart), the window. Measured twice: the settled height, and the height after s W
+  // travelled at their trajectory's points (the migration's rate, reference-data/<trajectory>.csv).
+  if (!p.quick)
+    for (const DiskValidation& pg : kDiskValidations) {
+      auto name = [&](double n, double dt) { return validation_name(pg, n, dt); };
+      const double finest = ok(name(128, pg.dts[0])) ? pg.dts[0] : pg.dts[1];
+      auto measure = [&](auto value, const std::string& note) -> std::optional<Measured> {
+        auto val = [&](double n, double dt) -> std::optional<double> {
+          if (!ok(name(n, dt))) return std::nullopt;
+          const double v = value(res.cases.at(name(n, dt)));
+          return std::isfinite(v) ? std::optional<double>(v) : std::nullopt;
+        };
+        const auto fine = val(128, finest);
+        if (!fine) return std::nullopt;
+        Measured m{*fine, {}, note};
+        std::vector<double> dts, hs;
+        std::string label = "dt";
+        for (double dt : pg.dts)
+          if (dt >= finest && dts.size() < 3) {
+            if (const auto v = val(128, dt)) {
+              dts.push_back(*v);
+              char dt_us[32];
+              std::snprintf(dt_us, sizeof dt_us, "%s%g", dts.size() > 1 ? "/" : " ", dt * 1e6);
+              label += dt_us;
+            } else {
+              break;
+            }
           }
+        for (double n : {128.0, 64.0, 32.0})
+          if (const auto v = val(n, finest)) hs.push_back(*v); else break;
+        if (dts.size() >= 2) {
+          m.u.dt = grid_convergence_index(dts, 2.0, 1.0);
+          m.u.dt->label = label + " us at h = W/128";
+        } else {
+          m.u.missing = "the Δt levels at h = W/128";
         }
-      for (double n : {128.0, 64.0, 32.0})
-        if (const auto v = val(n, finest)) hs.push_back(*v); else break;
-      if (dts.size() >= 2) {
-        m.u.dt = grid_convergence_index(dts, 2.0, 1.0);
-        m.u.dt->label = label + " us at h = W/128";
-      } else {
-        m.u.missing = "the Δt levels at h = W/128";
+        if (hs.size() < 2) m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the h levels";
+        if (hs.size() >= 2) {
+          const RefinementUncertainty h = grid_convergence_index(hs, 2.0, 1.0);
+          char at[48];
+          std::snprintf(at, sizeof at, "%g us", finest * 1e6);
+          m.u.other = "h W/128, W/64, W/32 at dt = " + std::string(at) + ": " + h.describe(2);
+          m.u.other_value = h.u;
+          char limit[96];
+          std::snprintf(limit, sizeof limit, "in u_num (ours to answer for here): h -> 0 gives %.4f", h.extrapolated);
+          m.converged_in_h = limit;
+        }
+        char how[200];
+        std::snprintf(how, sizeof how, "one rigid disk (DLM, step 4), study's pressure form, their Re %s, h = W/128, dt = %g us, from rest",
+                      pg.label.c_str(), finest * 1e6);
+        m.how = how;
+        return m;
+      };
+      if (ok(name(128, finest))) {
+        const CaseResult& r = res.cases.at(name(128, finest));
+        char note[256];
+        std::snprintf(note, sizeof note,
+                      "x2 / W of the disk centre over the last %.1f ms before %.1f ms (%.0f W travelled); Re with the disk %.2f (theirs: %s)",
+                      kValidationWindow * 1e3, r.t.back() * 1e3, (r.x.back()[0] - r.x.front()[0]) / 50e-6, r.reynolds, pg.label.c_str());
+        if (auto m = measure([](const CaseResult& c) { return c.distance; }, note)) {
+          std::vector<double> frac(r.t.size());
+          for (std::size_t k = 0; k < r.t.size(); ++k) frac[k] = r.y[k][0] / 50e-6;
+          m->u.window = window_noise(r.t, frac, kValidationWindow, 5);
+          res.validation[pg.equilibrium_id] = *m;
+        }
       }
-      if (hs.size() < 2) m.u.missing += std::string(m.u.missing.empty() ? "" : ", ") + "the h levels";
-      if (hs.size() >= 2) {
-        const RefinementUncertainty h = grid_convergence_index(hs, 2.0, 1.0);
-        char at[48];
-        std::snprintf(at, sizeof at, "%g us", finest * 1e6);
-        m.u.other = "h W/128, W/64, W/32 at dt = " + std::string(at) + ": " + h.describe(2);
-        m.u.other_value = h.u;
-        char limit[96];
-        std::snprintf(limit, sizeof limit, "in u_num (ours to answer for here): h -> 0 gives %.4f", h.extrapolated);
-        m.converged_in_h = limit;
+      // The digitized point nearest each row's nominal s (the row's value is that point's x2/W).
+      const auto points = read_csv_table(reference_table_path(pg.trajectory), {"s_over_W", "x2_over_W"});
+      for (const auto& [id, nominal] : pg.travel) {
+        double travelled = NAN;
+        for (const CsvRecord& rec : points)
+          if (std::isnan(travelled) || std::abs(csv_number(rec, 0, "s_over_W") - nominal) < std::abs(travelled - nominal))
+            travelled = csv_number(rec, 0, "s_over_W");
+        char note[160];
+        std::snprintf(note, sizeof note, "x2 / W of the disk centre when it has travelled %.3f W along the channel (interpolated between samples)", travelled);
+        if (auto m = measure([&](const CaseResult& c) { return height_after_travel(c, travelled, 50e-6); }, note)) res.validation[id] = *m;
       }
-      char how[160];
-      std::snprintf(how, sizeof how, "one rigid disk (DLM, step 4), study's pressure form, h = W/128, dt = %g us, from rest", finest * 1e6);
-      m.how = how;
-      return m;
-    };
-    if (auto m = measure([](const CaseResult& c) { return c.distance; },
-                         "x2 / W of the disk centre over the last 0.1 ms before 1.2 ms (about 55 W travelled)")) {
-      const CaseResult& r = res.cases.at(pg_name(128, finest));
-      std::vector<double> frac(r.t.size());
-      for (std::size_t k = 0; k < r.t.size(); ++k) frac[k] = r.y[k][0] / 50e-6;
-      m->u.window = window_noise(r.t, frac, kValidationWindow, 5);
-      res.validation["pg2002_equilibrium"] = *m;
+      trajectory_md += validation_trajectory_table(res, name(128, finest), pg);
     }
-    // The digitized point nearest each row's nominal s (the row's value is that point's x2/W).
-    const auto points = read_csv_table(reference_table_path("disk_validation_trajectory"), {"s_over_W", "x2_over_W"});
-    for (const auto& [id, nominal] : kValidationTravel) {
-      double travelled = NAN;
-      for (const CsvRecord& rec : points)
-        if (std::isnan(travelled) || std::abs(csv_number(rec, 0, "s_over_W") - nominal) < std::abs(travelled - nominal))
-          travelled = csv_number(rec, 0, "s_over_W");
-      char note[160];
-      std::snprintf(note, sizeof note, "x2 / W of the disk centre when it has travelled %.3f W along the channel (interpolated between samples)", travelled);
-      if (auto m = measure([&](const CaseResult& c) { return height_after_travel(c, travelled, 50e-6); }, note)) res.validation[id] = *m;
-    }
-    trajectory_md = validation_trajectory_table(res, pg_name(128, finest));
-  }
   if (!p.study_only) {  // the ensemble and the Δt sequences are the evidence's
     res.spread_md = spread_table(p, res) + paired_table(p, res) + ring_table(res) + trajectory_md;
     std::ofstream(fs::path(p.out_dir) / "spread.md") << res.spread_md;

@@ -47,7 +47,8 @@
 //   kb1_explicit                              the study's explicit scheme, to kExplicitEnd
 //   kb1_inc_dt<l>us                           the k_b cells in the incremental pressure form
 //                                             (kIncrementalDts), beside the study's form
-//   pg2002_h*_dt*                             one disk against Pan & Glowinski (2002): the
+//   pg2002_h*_dt*, pg2002re12.78_h*_dt*       one disk against Pan & Glowinski (2002) at their
+//                                             Re 96.74 and 12.78 (kDiskValidations): the
 //                                             validation of our disks over Δt and h
 //   disks_ring<s>h                            the four disks with their boundary's collocation
 //                                             points s h apart (kRingSpacings: 2 and 4; the
@@ -83,14 +84,35 @@ inline constexpr double kNonCircular = 0.9955;  // below: visibly non-circular (
 inline constexpr double kAlmostCircular = 0.9988;  // above: almost circular (ellipse 1.05)
 // Quick case: h = 0.625 um, 5 ms.
 inline constexpr double kQuickMesh = 0.625e-6, kQuickEnd = 5e-3;
-// Our disk against published data (one_disk_pan_glowinski_2002.toml, reference-data/disk_validation.csv):
-// the disk's height over the width, averaged over the last kValidationWindow.
-inline constexpr double kValidationWindow = 1e-4;  // s (about 5 W travelled)
+// Our disk against published data (reference-data/disk_validation.csv): Pan & Glowinski's (2002)
+// one-disk cases, one_disk_pan_glowinski_2002.toml at each of their Reynolds numbers, run over Δt
+// at h = W/128 and over h (W/64, W/32) at the finest Δt. The disk's settled height over the width
+// is averaged over the last kValidationWindow; the migration's rate is read as the height after s W
+// travelled, at the digitized point of their trajectory nearest each nominal s.
+inline constexpr double kValidationWindow = 1e-4;  // s (about 5 W travelled at Re0 106, 0.7 W at 13.9)
 inline const std::string kValidationScene = "one_disk_pan_glowinski_2002.toml";
-// The migration's rate against theirs: rows of disk_validation.csv read at the digitized point of
-// their trajectory nearest each nominal distance travelled (in W), mid-way down and near the end
-// of the approach (reference-data/disk_validation_trajectory.csv).
-inline const std::vector<std::pair<std::string, double>> kValidationTravel = {{"pg2002_x2_s5", 5.0}, {"pg2002_x2_s10", 10.0}};
+struct DiskValidation {
+  std::string prefix;          // the cases' names: <prefix>_h<W/h>_dt<Δt in s>
+  std::string label;           // their Reynolds number's label
+  double reynolds0 = 0;        // Re0 = U W / nu of the cell-free channel; 0: the scene file's (106.09)
+  double end = 0;              // s; 0: the scene file's (1.2 ms)
+  std::vector<double> dts;     // s, at h = W/128, finest first
+  std::string equilibrium_id;  // the row of the settled height
+  std::vector<std::pair<std::string, double>> travel;  // the rows read after s W travelled: id, s
+  std::string trajectory;      // their digitized trajectory: reference-data/<trajectory>.csv
+};
+// Their label 96.74 (our Re0 106.09 from their nu and pressure gradient) and their lowest, 12.78
+// (Re0 = 13.91 from the parameters tabulated with its trajectory in github.com/fradevita/FEN,
+// test/small_test/fsi/Pan_Eulerian/postpro.py at commit 4e927b00: -dp/dx = 1.763e-3,
+// nu = 3.2498036e-3 in units of W; their label is the Reynolds number of the flow with the disk,
+// ours of the flow without it). The lower case takes about 7.6 times as long per W travelled, and
+// about 1.8 times the distance to settle, so it runs to 8 ms (about 50 W) at a Δt 8 times larger:
+// about as many steps per W / U0 as the other's finest.
+inline const std::vector<DiskValidation> kDiskValidations = {
+    {"pg2002", "96.74", 0, 0, {1.25e-8, 2.5e-8, 5e-8, 1e-7}, "pg2002_equilibrium", {{"pg2002_x2_s5", 5.0}, {"pg2002_x2_s10", 10.0}},
+     "disk_validation_trajectory"},
+    {"pg2002re12.78", "12.78", 13.91, 8e-3, {1e-7, 2e-7, 4e-7}, "pg2002re12.78_equilibrium",
+     {{"pg2002re12.78_x2_s10", 10.0}, {"pg2002re12.78_x2_s20", 20.0}}, "disk_validation_trajectory_re12.78"}};
 // Error against run time: from rest to kConvTime (a whole number of every Δt of the study:
 // 1.2 ms = 100 x 12 us = 48000 x 25 ns, so that all runs compare at the same instant).
 inline constexpr double kConvTime = 1.2e-3;
@@ -121,6 +143,7 @@ struct Case {
   std::string projection;      // the pressure's form ("study", "incremental"); empty: the scene file's
   std::string scheme;          // the time scheme ("lie", "lie-extrapolated"); empty: the scene file's
   std::string scene_file;      // empty: four_cells_vs_disks.toml plus the bodies; else this file as it is
+  double reynolds0 = 0;        // Re0 of the cell-free channel (scene_file cases); 0: the file's
   double ring_spacing = 0;     // the disks' boundary points, h apart ([solver] disk_boundary_spacing); 0: the scene's
   bool reported = false;       // the run the study's rows and figures read: the case's finest Δt
 };
