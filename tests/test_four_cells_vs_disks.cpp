@@ -146,6 +146,11 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
       EXPECT_EQ(s.dt, c.dt) << c.name;
       ASSERT_TRUE(s.reynolds0.has_value()) << c.name;
       ++at_reynolds[case_runner::num(*s.reynolds0)];
+      // Their Re 96.74 as the scene file has it (to 1.2 ms); 12.78 to 8 ms, 201 samples.
+      EXPECT_EQ(s.end, *s.reynolds0 == 13.91 ? 8e-3 : 1.2e-3) << c.name;
+      if (*s.reynolds0 == 13.91) {
+        EXPECT_DOUBLE_EQ(s.output_every, 4e-5) << c.name;
+      }
       continue;
     }
     EXPECT_EQ(s.cells.size() + s.disks.size(), 4u) << c.name;
@@ -170,6 +175,9 @@ TEST(FourCellsVsDisksExperiment, CasesBuildTheStudysBodiesAndOnlyThose) {
   // Pan & Glowinski's two cases: four Δt and two coarser h at their Re0 106.09, three and two at 13.91.
   EXPECT_EQ(validation, 11);
   EXPECT_EQ(at_reynolds, (std::map<std::string, int>{{"106.09", 6}, {"13.91", 5}}));
+  for (const char* kept : {"pg2002_h128_dt1.25e-08", "pg2002_h128_dt2.5e-08", "pg2002_h128_dt5e-08", "pg2002_h128_dt1e-07",
+                           "pg2002_h64_dt1.25e-08", "pg2002_h32_dt1.25e-08"})  // the kept runs' names (paper/evidence/data/)
+    EXPECT_TRUE(names.count(kept)) << kept;
   // Every study case has its Δt sequence (u_num's Δt part): 6, 3 and 1.5 us.
   for (const char* base : {"kb1", "kb10", "kb100", "kb1000", "s07", "disks"})
     for (const char* suffix : {"", "_dt3us", "_dt1.5us"}) EXPECT_TRUE(names.count(std::string(base) + suffix)) << base << suffix;

@@ -94,8 +94,8 @@ inline const std::string kValidationScene = "one_disk_pan_glowinski_2002.toml";
 struct DiskValidation {
   std::string prefix;          // the cases' names: <prefix>_h<W/h>_dt<Δt in s>
   std::string label;           // their Reynolds number's label
-  double reynolds0 = 0;        // Re0 = U W / nu of the cell-free channel; 0: the scene file's (106.09)
-  double end = 0;              // s; 0: the scene file's (1.2 ms)
+  double reynolds0 = 0;        // Re0 = U W / nu of the cell-free channel; 0: the scene file's
+  double end = 0;              // s; 0: the scene file's
   std::vector<double> dts;     // s, at h = W/128, finest first
   std::string equilibrium_id;  // the row of the settled height
   std::vector<std::pair<std::string, double>> travel;  // the rows read after s W travelled: id, s
@@ -106,7 +106,7 @@ struct DiskValidation {
 // test/small_test/fsi/Pan_Eulerian/postpro.py at commit 4e927b00: -dp/dx = 1.763e-3,
 // nu = 3.2498036e-3 in units of W; their label is the Reynolds number of the flow with the disk,
 // ours of the flow without it). The lower case takes about 7.6 times as long per W travelled, and
-// about 1.8 times the distance to settle, so it runs to 8 ms (about 50 W) at a Δt 8 times larger:
+// about 1.7 times the distance to settle, so it runs to 8 ms (about 53 W) at a Δt 8 times larger:
 // about as many steps per W / U0 as the other's finest.
 inline const std::vector<DiskValidation> kDiskValidations = {
     {"pg2002", "96.74", 0, 0, {1.25e-8, 2.5e-8, 5e-8, 1e-7}, "pg2002_equilibrium", {{"pg2002_x2_s5", 5.0}, {"pg2002_x2_s10", 10.0}},
