@@ -91,6 +91,28 @@ TEST(ReferenceData, UnresolvedWhenOurUncertaintyIsLargerThanTheToleranceAndReach
   EXPECT_EQ(s.rows[0].u_num, "0.01 (incomplete)");
 }
 
+// Beside u_num's parts, the u_num a run one Δt level coarser would have, against the tolerance.
+TEST(ReferenceData, ACoarserDtIsSaidToDoOnlyWhereItsUncertaintyStaysWithinTheTolerance) {
+  // f = 3 + 0.5 Δt at Δt = 1, 2, 4 (first order, exact): U 0.625 at the finest, 1.25 at 2 Δt
+  // (Fs 1.25 times its error 1.0); reported: the finest.
+  const double coarser = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 1).u;
+  ASSERT_NEAR(coarser, 1.25, 1e-12);
+  auto table = [](double tolerance, int reported, std::string missing) {
+    const std::vector<ReferenceRow> rows = {{"d", "distance", 3.0, "um", tolerance, "abs", "number", "Fig. 6", "r", ""}};
+    Measured m{3.5, {}, ""};
+    m.u.dt = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, reported);
+    m.u.missing = missing;
+    return compare_with_reference(rows, {{"d", m}}, {}, true).rows[0].u_parts;
+  };
+  EXPECT_NE(table(2.0, 0, "").find("; at 2 Δt: u_num 1.2, within the tolerance: that Δt would do"), std::string::npos) << table(2.0, 0, "");
+  EXPECT_NE(table(1.0, 0, "").find("; at 2 Δt: u_num 1.2, above the tolerance"), std::string::npos) << table(1.0, 0, "");
+  // Reported at 2 Δt: U 1.25 there; at 4 Δt (Fs 1.25 times 2.0) 2.5.
+  EXPECT_NE(table(2.0, 1, "").find("; at 2 Δt: u_num 2.5, above the tolerance"), std::string::npos) << table(2.0, 1, "");
+  // The coarsest level reported, or u_num incomplete: nothing to say.
+  EXPECT_EQ(table(2.0, 2, "").find("at 2 Δt"), std::string::npos);
+  EXPECT_EQ(table(2.0, 0, "the h levels").find("at 2 Δt"), std::string::npos);
+}
+
 TEST(Uncertainty, GridConvergenceIndexFindsTheOrderAndTheLimitOfAFirstOrderSequence) {
   // f = 3 + 0.5 Δt at Δt = 1, 2, 4: order 1 (ln(1/0.5)/ln 2), exact δ_RE; the few-points σ is
   // min(σ_1, σ_2) = 0 (the data lie on δ_1); Fs 1.25; U = 1.25 |f_fit(1) − 3| = 0.625, limit 3.
