@@ -104,13 +104,28 @@ TEST(ReferenceData, ACoarserDtIsSaidToDoOnlyWhereItsUncertaintyStaysWithinTheTol
     m.u.missing = missing;
     return compare_with_reference(rows, {{"d", m}}, {}, true).rows[0].u_parts;
   };
-  EXPECT_NE(table(2.0, 0, "").find("; at 2 Δt: u_num 1.2, within the tolerance: that Δt would do"), std::string::npos) << table(2.0, 0, "");
-  EXPECT_NE(table(1.0, 0, "").find("; at 2 Δt: u_num 1.2, above the tolerance"), std::string::npos) << table(1.0, 0, "");
+  EXPECT_NE(table(2.0, 0, "").find("; a coarser Δt: at 2 Δt u_num 1.2, within the tolerance: that Δt would do"), std::string::npos)
+      << table(2.0, 0, "");
+  EXPECT_NE(table(1.0, 0, "").find("; a coarser Δt: at 2 Δt u_num 1.2, above the tolerance"), std::string::npos) << table(1.0, 0, "");
   // Reported at 2 Δt: U 1.25 there; at 4 Δt (Fs 1.25 times 2.0) 2.5.
-  EXPECT_NE(table(2.0, 1, "").find("; at 2 Δt: u_num 2.5, above the tolerance"), std::string::npos) << table(2.0, 1, "");
+  EXPECT_NE(table(2.0, 1, "").find("at 2 Δt u_num 2.5, above the tolerance"), std::string::npos) << table(2.0, 1, "");
   // The coarsest level reported, or u_num incomplete: nothing to say.
-  EXPECT_EQ(table(2.0, 2, "").find("at 2 Δt"), std::string::npos);
-  EXPECT_EQ(table(2.0, 0, "the h levels").find("at 2 Δt"), std::string::npos);
+  EXPECT_EQ(table(2.0, 2, "").find("coarser Δt"), std::string::npos);
+  EXPECT_EQ(table(2.0, 0, "the h levels").find("coarser Δt"), std::string::npos);
+  // A chaotic row (its members' mean): the other parts kept as they are, 2 s/√n = 2 (0.3/√4) = 0.3
+  // beside the coarser Δt part 1.25: u_num √(1.25² + 0.3²) = 1.29.
+  const std::vector<ReferenceRow> rows = {{"cfl", "layer", 3.0, "um", 1.28, "abs", "number", "Sec. 3", "r", ""}};
+  Measured m;
+  for (double v : {3.2, 3.5, 3.8, 3.5}) m.ensemble.push_back({"seed", v});
+  m.u.ensemble = 0.3;
+  m.u.members = 4;
+  m.u.of_mean = true;
+  m.u.dt = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 0);
+  NumericalUncertainty at_coarser = m.u;
+  at_coarser.dt = grid_convergence_index({3.5, 4.0, 5.0}, 2, 1, 1);
+  ASSERT_NEAR(*at_coarser.total(), std::hypot(1.25, 0.3), 1e-12);
+  const std::string parts = compare_with_reference(rows, {{"cfl", m}}, {}, true).rows[0].u_parts;
+  EXPECT_NE(parts.find("at 2 Δt u_num 1.3, above the tolerance"), std::string::npos) << parts;  // 1.29 > 1.28
 }
 
 TEST(Uncertainty, GridConvergenceIndexFindsTheOrderAndTheLimitOfAFirstOrderSequence) {

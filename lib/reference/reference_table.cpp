@@ -53,20 +53,19 @@ bool bold(Verdict v) {
 // The largest |ours − study| the row's tolerance allows, in the row's unit.
 double allowed_difference(const ReferenceRow& r) { return r.tolerance_type == "rel" ? r.tolerance * std::abs(*r.value) : r.tolerance; }
 
-// Is the reported run's Δt larger than it needs to be? A reported run's Δt should be the largest
-// whose u_num stays below the row's tolerance T. Where the row's Δt levels reach one coarser than
-// the reported level (ratio r), the same estimator's U_Δt there, with the row's other parts as
-// they are, gives the u_num a run at r Δt would have:
-//   "; at 2 Δt: u_num 0.17, above the tolerance" (or "within the tolerance: that Δt would do").
-// Empty where no coarser level was run or u_num is incomplete.
-std::string coarser_dt_note(const NumericalUncertainty& u, double allowed) {
-  if (!u.dt || !u.missing.empty() || u.dt->reported + 1 >= int(u.dt->values.size())) return "";
-  NumericalUncertainty coarser = u;
+// u_num's parts in words, and the u_num a run one Δt level coarser would have against the
+// tolerance (the header's rule): "...; a coarser Δt: at 2 Δt u_num 0.17, above the tolerance" (or
+// "within the tolerance: that Δt would do"). No such note where no coarser level was run, u_num is
+// incomplete, or the coarser level's Δt part is not finite.
+std::string uncertainty_parts(const NumericalUncertainty& u, double allowed) {
+  const std::string parts = u.describe();
+  if (!u.dt || !u.missing.empty() || u.dt->reported + 1 >= int(u.dt->values.size())) return parts;
   const RefinementUncertainty& d = *u.dt;
+  NumericalUncertainty coarser = u;
   coarser.dt = grid_convergence_index(d.values, d.ratio, d.formal_order, d.reported + 1, d.noise);
   const std::optional<double> total = coarser.total();
-  if (!total) return "";
-  return "; at " + fmt(d.ratio) + " Δt: u_num " + fmt_uncertainty(*total) +
+  if (!std::isfinite(coarser.dt->u) || !total) return parts;
+  return parts + "; a coarser Δt: at " + fmt(d.ratio) + " Δt u_num " + fmt_uncertainty(*total) +
          (*total <= allowed ? ", within the tolerance: that Δt would do" : ", above the tolerance");
 }
 
@@ -240,7 +239,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       c.ours = fmt(e.mean);
       c.difference = fmt_difference(e.mean - *r.value);
       c.u_num = u ? fmt_uncertainty(*u) : "not measured";
-      c.u_parts = m.u.describe() + coarser_dt_note(m.u, allowed);
+      c.u_parts = uncertainty_parts(m.u, allowed);
       c.converged_in_h = m.converged_in_h;
       c.how = m.how;
       if (!chosen.empty() && !m.readings.empty()) c.how += std::string(c.how.empty() ? "" : "; ") + "U read as '" + chosen + "' (reference-data/readings.csv)";
@@ -299,7 +298,7 @@ CheckSummary compare_with_reference(const std::vector<ReferenceRow>& rows, const
       c.ours = fmt(v);
       c.difference = fmt_difference(v - *r.value);
       c.u_num = u ? fmt_uncertainty(*u) : it->second.u.total() ? fmt_uncertainty(*it->second.u.total()) + " (incomplete)" : "not measured";
-      c.u_parts = it->second.u.describe() + coarser_dt_note(it->second.u, allowed);
+      c.u_parts = uncertainty_parts(it->second.u, allowed);
       c.converged_in_h = it->second.converged_in_h;
       c.how = it->second.how;
       if (read_as_chosen)

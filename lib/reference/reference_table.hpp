@@ -32,8 +32,10 @@
 // row never hides the distance: study, ours and ours − study are printed on every row, the cause
 // (shown or believed) beside it.
 // Beside u_num's parts, where the row's Δt levels reach one coarser than the reported run's: the
-// u_num a run at that Δt would have (the same estimator, the other parts as they are) against T:
-// whether the reported Δt is larger than the row needs.
+// u_num a run at that Δt would have against T (the same estimator at that level, from the same
+// levels; the ensemble and window parts as measured at the reported Δt): whether the reported Δt
+// is larger than the row needs (a reported run's Δt should be the largest whose u_num stays
+// within T).
 //
 // Readings. Where the study's words allow several definitions of a measured quantity (U in
 // Re = ρUH/μ is "the averaged velocity in the channel", Section 2), an experiment measures the row
