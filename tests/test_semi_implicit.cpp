@@ -134,6 +134,28 @@ TEST(StepMobility, EqualsSpreadSolveProjectInterpolate) {
   EXPECT_LT(err, 1e-9 * scale);  // the projection's CG tolerance is 1e-10
 }
 
+TEST(StepMobility, TabulatesASourceRowWhenFirstNeededWithTheValuesOfTheWholeTable) {
+  // matrix() tabulates only the source rows under its nodes' stencils; a table built row by row,
+  // in whatever order the nodes ask, gives M bit for bit as one with every row tabulated first.
+  SmallChannel lazy, whole;
+  const int rows = lazy.flow.mesh().ny - 1;
+  EXPECT_EQ(lazy.mobility.rows_tabulated(), 0);
+  const Points low = {{1.1e-6, 0.6e-6}, {2.0e-6, 0.7e-6}}, high = {{9.9e-6, 4.1e-6}, {-0.3e-6, 4.4e-6}};
+  Eigen::MatrixXd M_low, M_high, M_whole;
+  lazy.mobility.matrix(low, M_low);
+  // Stencils of nodes at y = 0.6 and 0.7 µm (h = 0.25 µm) reach interior rows 0–3.
+  EXPECT_EQ(lazy.mobility.rows_tabulated(), 4);
+  EXPECT_EQ(lazy.mobility.table_bytes(), std::size_t(4) * 8 * lazy.flow.mesh().nx * rows * sizeof(double));
+  lazy.mobility.matrix(high, M_high);
+  EXPECT_LT(lazy.mobility.rows_tabulated(), rows);
+  whole.mobility.prepare_phase_average(1e-6);  // tabulates every source row
+  EXPECT_EQ(whole.mobility.rows_tabulated(), rows);
+  whole.mobility.matrix(high, M_whole);
+  EXPECT_TRUE(M_high == M_whole);
+  whole.mobility.matrix(low, M_whole);
+  EXPECT_TRUE(M_low == M_whole);
+}
+
 TEST(StepMobility, PeskinAutocorrelationSumsToOneWithNoFirstMoment) {
   // From Σ_j φ(r − j) = 1 and Σ_j (r − j) φ(r − j) = 0: Σ_d c(d − z) = 1 and Σ_d (d − z) c(d − z)
   // = 0 for every z; c is even and vanishes from |z| = 4 on.

@@ -312,6 +312,12 @@ std::vector<Case> cases(const Params& p) {
   return v;
 }
 
+const CsvRecord& nearest_digitized_point(const std::vector<CsvRecord>& points, double s_over_W) {
+  if (points.empty()) throw std::runtime_error("nearest_digitized_point: an empty trajectory table");
+  const auto distance = [&](const CsvRecord& r) { return std::abs(csv_number(r, 0, "s_over_W") - s_over_W); };
+  return *std::min_element(points.begin(), points.end(), [&](const CsvRecord& a, const CsvRecord& b) { return distance(a) < distance(b); });
+}
+
 namespace {
 
 // Runs (or reads back) one case and extracts its series.
@@ -1049,10 +1055,7 @@ Results run(const Params& p) {
       // The digitized point nearest each row's nominal s (the row's value is that point's x2/W).
       const auto points = read_csv_table(reference_table_path(pg.trajectory), {"s_over_W", "x2_over_W"});
       for (const auto& [id, nominal] : pg.travel) {
-        double travelled = NAN;
-        for (const CsvRecord& rec : points)
-          if (std::isnan(travelled) || std::abs(csv_number(rec, 0, "s_over_W") - nominal) < std::abs(travelled - nominal))
-            travelled = csv_number(rec, 0, "s_over_W");
+        const double travelled = csv_number(nearest_digitized_point(points, nominal), 0, "s_over_W");
         char note[160];
         std::snprintf(note, sizeof note, "x2 / W of the disk centre when it has travelled %.3f W along the channel (interpolated between samples)", travelled);
         if (auto m = measure([&](const CaseResult& c) { return height_after_travel(c, travelled, 50e-6); }, note)) res.validation[id] = *m;

@@ -64,6 +64,7 @@
 #include <string>
 #include <vector>
 
+#include "io/csv.hpp"
 #include "reference/reference_table.hpp"
 #include "reference/regression_record.hpp"
 #include "scene/run_scene.hpp"
@@ -106,13 +107,16 @@ struct DiskValidation {
 // test/small_test/fsi/Pan_Eulerian/postpro.py at commit 4e927b00: -dp/dx = 1.763e-3,
 // nu = 3.2498036e-3 in units of W; their label is the Reynolds number of the flow with the disk,
 // ours of the flow without it). The lower case takes about 7.6 times as long per W travelled, and
-// about 1.7 times the distance to settle, so it runs to 8 ms (about 53 W); its finest Δt, 4 times
+// about 1.7 times the distance to settle, so it runs to 8 ms (about 57 W travelled); its finest Δt, 4 times
 // the other's, takes about twice as many steps per W / U0 (3000 against 1600).
 inline const std::vector<DiskValidation> kDiskValidations = {
     {"pg2002", "96.74", 0, 0, {1.25e-8, 2.5e-8, 5e-8, 1e-7}, "pg2002_equilibrium", {{"pg2002_x2_s5", 5.0}, {"pg2002_x2_s10", 10.0}},
      "disk_validation_trajectory"},
     {"pg2002re12.78", "12.78", 13.91, 8e-3, {5e-8, 1e-7, 2e-7, 4e-7}, "pg2002re12.78_equilibrium",
      {{"pg2002re12.78_x2_s10", 10.0}, {"pg2002re12.78_x2_s20", 20.0}}, "disk_validation_trajectory_re12.78"}};
+// The digitized point of a trajectory table (columns s_over_W, x2_over_W) nearest the distance
+// travelled s / W: a migration-rate row's value is that point's x2 / W.
+const CsvRecord& nearest_digitized_point(const std::vector<CsvRecord>& points, double s_over_W);
 // Error against run time: from rest to kConvTime (a whole number of every Δt of the study:
 // 1.2 ms = 100 x 12 us = 48000 x 25 ns, so that all runs compare at the same instant).
 inline constexpr double kConvTime = 1.2e-3;

@@ -24,8 +24,9 @@ int main(int argc, char** argv) {
   app.add_flag("--quick", quick, "a small map (h = 0.5, 0.25 um; three stiffnesses)");
   app.add_flag("--check", check, "exit 1 if an extreme case stopped (the study publishes no numbers for this map)");
   app.add_flag("--reuse", p_reuse, "read the cases finished in the output folder instead of computing them again");
-  bool p_resume = false;
+  bool p_resume = false, p_collect = false;
   app.add_flag("--resume", p_resume, "after a stop (Ctrl-C, SIGTERM): keep the cases already written, compute the rest");
+  app.add_flag("--collect", p_collect, "read the cases finished in the output folder and compute none (the others: not run)");
   bool study_only = false;
   app.add_flag("--study-only", study_only,
                "the map make reproduce draws: h = 0.5 and 0.25 um, every stiffness and extreme case (without it h = 0.125 um too)");
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
   if (!out.empty()) p.out_dir = out;
   p.reuse = p_reuse;
   p.resume = p_resume;
+  p.collect = p_collect;
   p.only = only;
   if (list) {
     for (const std::string& c : sm::cases(p)) std::printf("%s\n", c.c_str());

@@ -375,19 +375,24 @@ void fill_quick_record(Results& res);
 
 // Each point is a case of its own (points/<case>.csv) and the extreme cases one more
 // (extremes.csv), so that GNU parallel or a Slurm array can run them apart (--only) and a stopped
-// map loses at most the points in progress; --reuse and --resume read the cases already written.
+// map loses at most the points in progress; --reuse and --resume read the cases already written,
+// --collect reads them and computes none (a case not written: not run, named in check.md).
 Results run(const Params& p) {
   namespace fs = std::filesystem;
   const fs::path out(p.out_dir), points = out / "points";
   fs::create_directories(points);
   case_runner::require_case(cases(p), p.only, "stability_map");
-  const bool read_back = p.reuse || p.resume;
+  const bool read_back = p.reuse || p.resume || p.collect;
   Results res;
   for (const PointCase& c : point_cases(p)) {
     if (!p.only.empty() && c.name != p.only) continue;
     const fs::path file = points / (c.name + ".csv");
     Point pt;
     if (!(read_back && read_point_file(file, pt))) {
+      if (p.collect) {
+        res.not_run.push_back(c.name);
+        continue;
+      }
       pt = bisect(p, c.coupling, c.h, c.kl, c.kb);
       write_whole(file, std::string(kPointHeader) + "\n" + point_row(pt) + "\n");
       if (p.progress)
@@ -399,8 +404,12 @@ Results run(const Params& p) {
   }
   if (p.only.empty() || p.only == kExtremesCase) {
     if (!(read_back && read_extremes(out / "extremes.csv", res.extremes))) {
-      res.extremes = extremes(p);
-      write_whole(out / "extremes.csv", extremes_csv(res.extremes));
+      if (p.collect) {
+        res.not_run.push_back(kExtremesCase);
+      } else {
+        res.extremes = extremes(p);
+        write_whole(out / "extremes.csv", extremes_csv(res.extremes));
+      }
     }
   }
   if (!p.only.empty()) return res;
@@ -460,6 +469,12 @@ void write_tables(const Params& p, const Results& res) {
     char row[400];
     std::snprintf(row, sizeof row, "| %s | %s | %.3g | %s | %.1f |\n", e.name.c_str(), e.what.c_str(), e.dt, e.outcome.c_str(), e.wall_seconds);
     md << row;
+  }
+  if (!res.not_run.empty()) {
+    md << "\nNot run (--collect: no finished case in " << p.out_dir << "): " << res.not_run.size() << " of " << cases(p).size()
+       << " cases:";
+    for (const std::string& c : res.not_run) md << " " << c;
+    md << ".\n";
   }
 }
 

@@ -39,6 +39,7 @@ struct Params {
   int max_substeps = 4;       // Q at the cap
   bool reuse = false;         // read a finished map from out_dir instead of recomputing it
   bool resume = false;        // keep the points a stopped map already wrote, compute the rest
+  bool collect = false;       // read the points and extreme cases already written, compute none
   std::string only;           // compute only this case (a name of cases())
   static Params quick_params();   // h = 0.5, 0.25 um; k_l × 0.1, 1, 10; k_b × 1000; the two couplings' Lie scheme
   static Params report_params();  // make reproduce's map: h = 0.5 and 0.25 um (h and h halved), every
@@ -65,6 +66,7 @@ struct Extreme {
 struct Results {
   std::vector<Point> points;
   std::vector<Extreme> extremes;
+  std::vector<std::string> not_run;  // --collect: the cases with nothing written
   // Quick runs: every limit and extreme outcome, for reference-data/regression/stability_map_quick.csv.
   std::map<std::string, Observed> quick_record;
 };

@@ -594,8 +594,9 @@ void validate_time_step(const Reader& r, const Scene& s) {
       << " m/s, the cell-free peak speed); lower dt or raise [time] advection_substeps";
     r.fail("[time] dt", m.str());
   }
-  // The semi-implicit coupling tabulates the step mobility once: 8 nx (ny − 1)² doubles, and
-  // with several cells its phase average H for the preconditioner (step_mobility.hpp).
+  // The semi-implicit coupling tabulates the step mobility: at most 8 nx (ny − 1)² doubles (every
+  // source row; one cell may visit them all), and with several cells its phase average H for the
+  // preconditioner (step_mobility.hpp).
   if (s.coupling == "semi-implicit" && !s.cells.empty()) {
     const ChannelMesh mesh = ChannelMesh::make(s.length, s.height, s.mesh_size);  // checked above
     const double nx = mesh.nx, ny = mesh.ny;

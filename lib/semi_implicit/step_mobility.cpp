@@ -14,31 +14,40 @@ namespace rbc {
 
 StepMobility::StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion, QuasiStokesProjection& projection,
                            double rho, double dt)
-    : m_(mesh), rows_(mesh.ny - 1), table_(std::size_t(8) * mesh.nx * rows_ * rows_, 0.0) {
+    : m_(mesh), diffusion_(diffusion), projection_(projection), rho_(rho), dt_(dt), rows_(mesh.ny - 1), table_(rows_) {}
+
+void StepMobility::tabulate_source_row(int js) {
+  if (!table_[js].empty()) return;
   const int nx = m_.nx;
   const std::size_t plane = std::size_t(nx) * rows_;
-  VelocityField u(mesh);
-  std::vector<double> p(mesh.pressure_nodes(), 0.0), b(plane);
+  table_[js].assign(plane * 8, 0.0);
+  VelocityField u(m_);
+  std::vector<double> p(m_.pressure_nodes(), 0.0), b(plane);
   for (int parity = 0; parity < 2; ++parity)
-    for (int beta = 0; beta < 2; ++beta)
-      for (int js = 0; js < rows_; ++js) {
-        // P A⁻¹ applied to a unit value in component β at node (parity, js + 1).
-        std::fill(u.u1.begin(), u.u1.end(), 0.0);
-        std::fill(u.u2.begin(), u.u2.end(), 0.0);
-        std::fill(b.begin(), b.end(), 0.0);
-        b[std::size_t(js) * nx + parity] = 1.0;
-        diffusion.solve_interior(b.data());
-        std::copy(b.begin(), b.end(), (beta == 0 ? u.u1 : u.u2).begin() + nx);
-        std::fill(p.begin(), p.end(), 0.0);
-        projection.project(u, u, p, rho, dt, ProjectionForm::iterative);
-        for (int alpha = 0; alpha < 2; ++alpha) {
-          const std::vector<double>& f = alpha == 0 ? u.u1 : u.u2;
-          for (int j = 0; j < rows_; ++j)
-            for (int i = 0; i < nx; ++i)  // stored by column offset i − parity
-              entry(j, js, wrap_index(i - parity, nx))[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
-        }
+    for (int beta = 0; beta < 2; ++beta) {
+      // P A⁻¹ applied to a unit value in component β at node (parity, js + 1).
+      std::fill(u.u1.begin(), u.u1.end(), 0.0);
+      std::fill(u.u2.begin(), u.u2.end(), 0.0);
+      std::fill(b.begin(), b.end(), 0.0);
+      b[std::size_t(js) * nx + parity] = 1.0;
+      diffusion_.solve_interior(b.data());
+      std::copy(b.begin(), b.end(), (beta == 0 ? u.u1 : u.u2).begin() + nx);
+      std::fill(p.begin(), p.end(), 0.0);
+      projection_.project(u, u, p, rho_, dt_, ProjectionForm::iterative);
+      for (int alpha = 0; alpha < 2; ++alpha) {
+        const std::vector<double>& f = alpha == 0 ? u.u1 : u.u2;
+        for (int j = 0; j < rows_; ++j)
+          for (int i = 0; i < nx; ++i)  // stored by column offset i − parity
+            entry(j, js, wrap_index(i - parity, nx))[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
       }
+    }
 }
+
+int StepMobility::rows_tabulated() const {
+  return int(std::count_if(table_.begin(), table_.end(), [](const std::vector<double>& t) { return !t.empty(); }));
+}
+
+std::size_t StepMobility::table_bytes() const { return std::size_t(rows_tabulated()) * 8 * m_.nx * rows_ * sizeof(double); }
 
 double peskin_autocorrelation(double z) {
   // φ(τ) φ(τ + z) is smooth between the points where τ or τ + z is an integer: Gauss–Legendre
@@ -80,6 +89,7 @@ std::size_t StepMobility::phase_average_bytes(const ChannelMesh& mesh, double ex
 
 void StepMobility::prepare_phase_average(double extent) {
   if (extent == extent_) return;
+  for (int js = 0; js < rows_; ++js) tabulate_source_row(js);
   const int reach = int(std::ceil(extent / m_.h)) + 4, m = kPhaseSamples, nx = m_.nx;
   J_ = std::min(rows_ - 1, reach);
   Z_ = std::min(nx / 2, reach);
@@ -190,13 +200,16 @@ void StepMobility::phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) co
   }
 }
 
-void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) const {
+void StepMobility::matrix(const Points& r, Eigen::MatrixXd& M) {
   // Two stages. (a) The response of every source node l at the footprint (the mesh nodes under
   // any node's stencil): R_l(x) = Σ_{q, qx} φ_l T(x − source); (b) M_kl = Σ_{x ∈ stencil k} φ_k(x) R_l(x).
   // 64 multiply-adds per (l, footprint node) and per pair, instead of 16 × 7 × 8 per pair.
   const int n = int(r.size()), nx = m_.nx;
   std::vector<NodeStencil> st;
   node_stencils(m_, r, st);
+  for (const NodeStencil& b : st)
+    for (int q = 0; q < 4; ++q)
+      if (const int js = b.j0 + q - 1; js >= 0 && js < rows_) tabulate_source_row(js);
   // The footprint: interior mesh nodes (column mod nx, interior row) under some stencil; slot
   // of each stencil point (−1 for rows on or beyond the walls).
   std::vector<int> slot(std::size_t(n) * 16, -1);

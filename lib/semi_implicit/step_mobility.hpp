@@ -14,13 +14,16 @@
 // So M is not symmetric (its asymmetry is ≈ 20 % of its norm at h = 0.25 µm).
 //
 // P A⁻¹ is fixed for the run and invariant under shifts in x1 by two mesh cells (odd and even
-// velocity columns sit differently on T_2h), so we tabulate it once:
+// velocity columns sit differently on T_2h), so we tabulate it:
 // T_αβ(i' mod 2, i − i', j, j') = component α at node (i, j) of P A⁻¹ applied to a unit value in
 // component β at node (i', j') — one source per column parity, interior row and component
-// (4 (ny−1) fast solves and projections; 8 nx (ny−1)² values, 520 MB at 320 × 160). M of any set
-// of nodes then costs 64 multiply-adds per pair and per (node, footprint node), see matrix().
-// M equals the long way (spread, solve, P, interpolate) to the projection's tolerance — a test
-// checks it.
+// (4 fast solves and projections per source row j'; 8 nx (ny−1) values a row, 3.3 MB at
+// 320 × 160, 520 MB for all 159 rows). A source row is tabulated when first needed: matrix()
+// builds the rows under its nodes' stencils, so a run with one cell builds the rows its cell
+// visits (about 25 of the wide channel's 159 at first); the phase average below needs every row.
+// A row's values do not depend on when it is built. M of any set of nodes then costs 64
+// multiply-adds per pair and per (node, footprint node), see matrix(). M equals the long way
+// (spread, solve, P, interpolate) to the projection's tolerance — a test checks it.
 //
 // Several cells' preconditioner blocks (semi_implicit_coupling.hpp) use M averaged over a shift
 // of all nodes together along x1, M̄(r) = (1/2h) ∫_0^{2h} M(r + s e1) ds. The grid-scale part of
@@ -57,11 +60,14 @@ double peskin_autocorrelation(double z);
 class StepMobility {
  public:
   StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion, QuasiStokesProjection& projection, double rho, double dt);
-  // M of the nodes r, 2N × 2N with unknowns (x_1, y_1, x_2, y_2, …), m/s per N/m.
-  void matrix(const Points& r, Eigen::MatrixXd& M) const;
-  std::size_t table_bytes() const { return table_.size() * sizeof(double); }
+  // M of the nodes r, 2N × 2N with unknowns (x_1, y_1, x_2, y_2, …), m/s per N/m. Tabulates
+  // the source rows under the nodes' stencils that are not yet (serially, before its threads).
+  void matrix(const Points& r, Eigen::MatrixXd& M);
+  // Source rows of T tabulated so far (of ny − 1), and their bytes.
+  int rows_tabulated() const;
+  std::size_t table_bytes() const;
   // Tabulates H for nodes at most extent (m) apart in x1 and in x2 (pairs further apart are
-  // computed from T directly, slowly). Idempotent for the same extent.
+  // computed from T directly, slowly), with every source row of T. Idempotent for the same extent.
   void prepare_phase_average(double extent);
   // M̄ of the nodes r (see above), 2N × 2N, m/s per N/m. Needs prepare_phase_average.
   void phase_averaged_matrix(const Points& r, Eigen::MatrixXd& M) const;
@@ -70,12 +76,20 @@ class StepMobility {
   static constexpr int kPhaseSamples = 4;  // samples of H per h in z
 
  private:
-  // The 8 values (i' mod 2, α, β) at column offset di between rows j (response) and j' (source).
-  double* entry(int j, int js, int di) { return &table_[((std::size_t(js) * rows_ + j) * m_.nx + di) * 8]; }
-  const double* entry(int j, int js, int di) const { return &table_[((std::size_t(js) * rows_ + j) * m_.nx + di) * 8]; }
+  // The 8 values (i' mod 2, α, β) at column offset di between rows j (response) and j' (source),
+  // source row j' tabulated.
+  double* entry(int j, int js, int di) { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
+  const double* entry(int j, int js, int di) const { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
+  // T for the sources in interior row js (4 fast solves and projections), if not yet.
+  void tabulate_source_row(int js);
   ChannelMesh m_;
-  int rows_;                   // interior rows ny − 1
-  std::vector<double> table_;  // T at [((j' rows + j) nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]
+  ImplicitDiffusion& diffusion_;
+  QuasiStokesProjection& projection_;
+  double rho_, dt_;
+  int rows_;  // interior rows ny − 1
+  // T of source row j' at table_[j'][(j nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]; empty until
+  // the row is tabulated.
+  std::vector<std::vector<double>> table_;
   // H(j, j', z) from T and c, for any z (4 values αβ).
   void averaged_kernel(int j, int js, double z, double out[4]) const;
   double extent_ = -1;       // of the current H table
