@@ -152,6 +152,7 @@ fi
 # runs (--list-read-only --study-only: the crowds' arrangements its rows are judged by); make
 # evidence: every kept case it does not run itself (with COLLECT=1: every kept case). Not in QUICK.
 restored=0
+other_code=" "  # the experiments that read kept cases of other code (their rows are not recorded below)
 if [ "$QUICK" != "1" ]; then
   for exp in "${run_list[@]}"; do
     read_only=""
@@ -163,6 +164,7 @@ if [ "$QUICK" != "1" ]; then
       [ "$mode" = reproduce ] && ! grep -qx "$name" <<< "$read_only" && continue
       [ "$COLLECT" != "1" ] && grep -qx "$exp $name" "$jobs_file" && continue
       cp -r "$kept_case" "$results/$exp/$name" && restored=$((restored + 1))
+      [ "$(head -1 "$kept_case/code_id" 2>/dev/null)" = "$code" ] || [[ "$other_code" == *" $exp "* ]] || other_code="$other_code$exp "
     done
   done
   [ "$restored" -gt 0 ] && log "$restored kept case(s) put in place from paper/evidence/data/ (each with its code_id; the tables name it)"
@@ -358,9 +360,16 @@ declare -A exp_wall
 for exp in "${run_list[@]}"; do exp_wall[$exp]=$(cat "$sections/$exp.wall" 2>/dev/null); done
 
 # make evidence: the record of u_num, with this commit and code (reference-data/uncertainty/).
+# Not of an experiment that read kept cases of other code: its rows would carry this commit for
+# runs it did not make (those rows' records: paper/record_kept_uncertainty.sh); they stay in
+# results/<experiment>/uncertainty.csv.
 if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncertainty.csv 2>/dev/null)" ]; then
   mkdir -p reference-data/uncertainty
   for exp in "${run_list[@]}"; do
+    if [[ "$other_code" == *" $exp "* ]]; then
+      log "u_num of $exp not recorded: it read kept cases of other code than $code (paper/evidence/data/); its rows as measured: $results/$exp/uncertainty.csv"
+      continue
+    fi
     for pair in "$exp:$results/$exp/uncertainty.csv" "disk_validation:$results/$exp/validation/uncertainty.csv"; do
       table=${pair%%:*}; file=${pair#*:}
       [ -f "$file" ] || continue
@@ -414,6 +423,7 @@ out="$report/README.md.tmp"
   [ "$COLLECT" != "1" ] && [ "$read_back" -gt 0 ] && echo "| cases read back | $read_back of $total, finished at this code before this invocation: by an earlier invocation of this command (their time then in the wall time above) or by another command such as make evidence (then only in their experiment's row) |"
   [ "$COLLECT" = "1" ] && echo "| runs | collected (COLLECT=1: none run by this command; rows of missing cases say \"not run\") |"
   [ "$restored" -gt 0 ] && echo "| kept runs | $restored case(s) read from paper/evidence/data/ (paper/keep_evidence.sh), each made by the code its table names |"
+  [ "$mode" = evidence ] && [ -n "${other_code// /}" ] && echo "| u_num records | not written for${other_code% } (read kept runs of other code; reference-data/uncertainty/ keeps their records) |"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
     echo
