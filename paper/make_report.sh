@@ -32,7 +32,9 @@
 #              the committed reports are only ever written whole (make evidence ONLY=... still
 #              records those experiments' u_num).
 #   COLLECT=1  run no case: write the report from the cases finished so far (e.g. after a Slurm
-#              array, paper/running_at_scale.md); rows of missing cases say "not run".
+#              array, paper/running_at_scale.md); rows of missing cases say "not run", figures
+#              whose runs' files are missing are left out, and make evidence keeps the recorded
+#              u_num of the rows it could not measure.
 #   JOBS       cases side by side (default: the number of cores).
 #   RESULTS    the results folder (default results; the tests use their own).
 # Exit status: 0; 1 if a row FAILed, an experiment stopped or a figure failed; 2 on bad use or a
@@ -93,6 +95,9 @@ quick_flag=""; [ "$QUICK" = "1" ] && quick_flag="--quick"
 if [ "$mode" = evidence ]; then report=paper/evidence; [ -n "$ONLY" ] && report=${RESULTS:-results}/evidence
 elif [ "$QUICK" = "1" ] || [ -n "$ONLY" ]; then report=${RESULTS:-results}/report
 else report=paper/report; fi
+# The report's copies of each experiment's table (and the case times while they are written): not
+# in paper/evidence/data/, which holds the kept runs (paper/keep_evidence.sh) and is never cleared.
+tables=$report/data; [ "$mode" = evidence ] && tables=$report/tables
 times_record=paper/report/data/case_times.csv   # exp,case,seconds of the last full run (ordering, estimates)
 command="make $mode$([ "$QUICK" = "1" ] && echo ' QUICK=1')$([ -n "$ONLY" ] && echo " ONLY=\"$ONLY\"")$([ "$COLLECT" = "1" ] && echo ' COLLECT=1')"
 mkdir -p "$results" "$report"
@@ -152,7 +157,6 @@ fi
 # runs (--list-read-only --study-only: the crowds' arrangements its rows are judged by); make
 # evidence: every kept case it does not run itself (with COLLECT=1: every kept case). Not in QUICK.
 restored=0
-other_code=" "  # the experiments that read kept cases of other code (their rows are not recorded below)
 if [ "$QUICK" != "1" ]; then
   for exp in "${run_list[@]}"; do
     read_only=""
@@ -164,7 +168,6 @@ if [ "$QUICK" != "1" ]; then
       [ "$mode" = reproduce ] && ! grep -qx "$name" <<< "$read_only" && continue
       [ "$COLLECT" != "1" ] && grep -qx "$exp $name" "$jobs_file" && continue
       cp -r "$kept_case" "$results/$exp/$name" && restored=$((restored + 1))
-      [ "$(head -1 "$kept_case/code_id" 2>/dev/null)" = "$code" ] || [[ "$other_code" == *" $exp "* ]] || other_code="$other_code$exp "
     done
   done
   [ "$restored" -gt 0 ] && log "$restored kept case(s) put in place from paper/evidence/data/ (each with its code_id; the tables name it)"
@@ -241,7 +244,7 @@ trap - INT TERM
 # stays). Only now, with every case finished: an interrupted run leaves the last report intact.
 # The report's movies as they are, kept where the new ones show the same frames (below).
 kept=$(mktemp -d); cp "$report/figures/"*_movie.gif "$kept/" 2>/dev/null
-[ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$report/data" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
+[ "$COLLECT" != "1" ] && rm -rf "$report/figures" && find "$tables" -mindepth 1 -maxdepth 1 -type d -exec rm -rf {} + 2>/dev/null
 
 # Collect every experiment: its comparison (check.md/.csv), figures, movie and section. The
 # experiments are independent (each writes its own folder, its own figures and its section), so
@@ -265,7 +268,14 @@ collect_one() {  # exp
   [ "$rc" -ge 2 ] && { log "$exp stopped (exit $rc):"; tail -3 "$dir/check.log" >&2; }
   figdir="$report/figures"; mkdir -p "$figdir"
   rm -f "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif
-  gnuplot -e "dir='$dir'; figdir='$figdir'" "experiments/$exp/plot.gp" > "$dir/plot.log" 2>&1 || { status=1; log "$exp: a figure failed ($dir/plot.log)"; }
+  # (COLLECT=1 reads what is kept, which holds no snapshots or fields: a figure that needs them is
+  # left out, not an error of the collection.)
+  if ! gnuplot -e "dir='$dir'; figdir='$figdir'" "experiments/$exp/plot.gp" > "$dir/plot.log" 2>&1; then
+    if [ "$COLLECT" = "1" ]; then  # (gnuplot stops at the failing figure, which may be left half drawn)
+      rm -f "$figdir/${exp}"_*.png "$figdir/${exp}"_*.gif
+      log "$exp: its figures not drawn (COLLECT=1: its runs' files are not all kept; $dir/plot.log)"
+    else status=1; log "$exp: a figure failed ($dir/plot.log)"; fi
+  fi
   # gnuplot's GIFs place a few colours at other table slots from run to run: a movie that shows
   # the same frames as the report's keeps its bytes (no new copy in git for the same pixels).
   for movie in "$figdir/${exp}"_*.gif; do
@@ -283,8 +293,8 @@ collect_one() {  # exp
   if [ "$mode" = reproduce ] && [[ "$movie_experiments" == *" $exp "* ]] && [ ! -s "$figdir/${exp}_movie.gif" ]; then
     status=1; log "$exp: no movie ($figdir/${exp}_movie.gif; its runs' frames.dat and $dir/plot.log)"
   fi
-  mkdir -p "$report/data/$exp"
-  [ -f "$dir/check.csv" ] && cp "$dir/check.csv" "$report/data/$exp/check.csv"
+  mkdir -p "$tables/$exp"
+  [ -f "$dir/check.csv" ] && cp "$dir/check.csv" "$tables/$exp/check.csv"
   # Each case's run time, for the next run's order and estimates; not the kept runs put in place
   # (their code_id: another command ran them, on another code).
   if [ -f "$dir/cases.csv" ]; then
@@ -314,7 +324,7 @@ collect_one() {  # exp
     echo
     echo "Run: \`$BUILD/bin/$exp --out $dir $flags\` after its cases — exit code $rc; its cases' run time (one thread each) and this step: $seconds s."
     echo
-    if [ -f "$dir/check.md" ]; then cat "$dir/check.md"; elif [ "$mode" = reproduce ]; then echo "(no comparison table: the run failed; see $dir/check.log)"; fi
+    if [ -f "$dir/check.md" ]; then cat "$dir/check.md"; else echo "(no comparison table: $(tail -1 "$dir/check.log" 2>/dev/null))"; fi
     echo
     if [ -f "$dir/regression.md" ]; then
       echo "The quick case's own numbers against its committed regression record (reference-data/regression/):"
@@ -363,6 +373,13 @@ for exp in "${run_list[@]}"; do exp_wall[$exp]=$(cat "$sections/$exp.wall" 2>/de
 # Not of an experiment that read kept cases of other code: its rows would carry this commit for
 # runs it did not make (those rows' records: paper/record_kept_uncertainty.sh); they stay in
 # results/<experiment>/uncertainty.csv.
+# (A kept case carries its code in its folder's code_id; the cases this code ran have none.)
+other_code=" "
+for exp in "${run_list[@]}"; do
+  for f in "$results/$exp"/*/code_id; do
+    [ -f "$f" ] && [ "$(head -1 "$f")" != "$code" ] && { other_code="$other_code$exp "; break; }
+  done
+done
 if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncertainty.csv 2>/dev/null)" ]; then
   mkdir -p reference-data/uncertainty
   for exp in "${run_list[@]}"; do
@@ -377,9 +394,17 @@ if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncert
       record=reference-data/uncertainty/$table.csv
       # Rows the previous record had and this run could not measure (evidence runs missing) are
       # dropped, not carried over from other code: said here.
+      # With COLLECT=1 (the cases finished so far) they stay as they were, each with its own commit.
       dropped=$( [ -f "$record" ] && comm -23 <(cut -d, -f1 "$record" | tail -n +2 | sort) <(cut -d, -f1 "$file" | tail -n +2 | sort) | tr '\n' ' ')
+      previous=$(mktemp); [ -f "$record" ] && cp "$record" "$previous"
       awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "$record"
-      log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$([ -n "$dropped" ] && echo "; not measured, dropped from the record: $dropped")"
+      if [ "$COLLECT" = "1" ] && [ -n "$dropped" ]; then
+        awk -F, -v keep=" $dropped" 'FNR > 1 && index(keep, " " $1 " ")' "$previous" >> "$record"
+        log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code); not measured, kept as recorded before: $dropped"
+      else
+        log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$([ -n "$dropped" ] && echo "; not measured, dropped from the record: $dropped")"
+      fi
+      rm -f "$previous"
     done
   done
 fi
@@ -457,7 +482,7 @@ out="$report/README.md.tmp"
     echo
     echo "## All the study's numbers"
     echo
-    "$BUILD/bin/rbcflow" summary --results "$report/data" || { echo "(the summary table failed)"; status=1; }
+    "$BUILD/bin/rbcflow" summary --results "$tables" || { echo "(the summary table failed)"; status=1; }
     echo
   fi
   for exp in "${run_list[@]}"; do cat "$sections/$exp.md"; done
@@ -465,10 +490,10 @@ out="$report/README.md.tmp"
 mv "$out" "$report/README.md"
 # The case times of a full run, for the next run's order and progress estimates.
 if [ "$QUICK" != "1" ] && [ -z "$ONLY" ] && [ "$COLLECT" != "1" ]; then
-  { echo "experiment,case,seconds"; cat "$results"/*/case_times.csv 2>/dev/null; } > "$report/data/case_times.csv.new"
-  [ -f "$times_record" ] && awk -F, 'NR == FNR {k[$1 "," $2] = 1; print; next} !(($1 "," $2) in k) && FNR > 1' "$report/data/case_times.csv.new" "$times_record" > "$report/data/case_times.csv.merged" \
-    && mv "$report/data/case_times.csv.merged" "$report/data/case_times.csv.new"
-  mkdir -p "$(dirname "$times_record")"; mv "$report/data/case_times.csv.new" "$times_record"
+  { echo "experiment,case,seconds"; cat "$results"/*/case_times.csv 2>/dev/null; } > "$tables/case_times.csv.new"
+  [ -f "$times_record" ] && awk -F, 'NR == FNR {k[$1 "," $2] = 1; print; next} !(($1 "," $2) in k) && FNR > 1' "$tables/case_times.csv.new" "$times_record" > "$tables/case_times.csv.merged" \
+    && mv "$tables/case_times.csv.merged" "$tables/case_times.csv.new"
+  mkdir -p "$(dirname "$times_record")"; mv "$tables/case_times.csv.new" "$times_record"
 fi
 log "report written to $report/README.md in $wall_total s"
 exit $status
