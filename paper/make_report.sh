@@ -290,7 +290,7 @@ collect_one() {  # exp
     case "$(basename "$fig")" in *work_precision*) ;; *_evidence*|*_units*) [ "$mode" = reproduce ] && rm -f "$fig" ;; *) [ "$mode" = evidence ] && [ "$exp" != stability_map ] && rm -f "$fig" ;; esac
   done
   # Every experiment of the study's runs has its movie (its plot.gp, from the runs' frames.dat).
-  if [ "$mode" = reproduce ] && [[ "$movie_experiments" == *" $exp "* ]] && [ ! -s "$figdir/${exp}_movie.gif" ]; then
+  if [ "$mode" = reproduce ] && [ "$COLLECT" != "1" ] && [[ "$movie_experiments" == *" $exp "* ]] && [ ! -s "$figdir/${exp}_movie.gif" ]; then
     status=1; log "$exp: no movie ($figdir/${exp}_movie.gif; its runs' frames.dat and $dir/plot.log)"
   fi
   mkdir -p "$tables/$exp"
@@ -363,7 +363,7 @@ collect_one() {  # exp
   return $status
 }
 export -f collect_one log
-export report kept sections movie_experiments jobs_file
+export report tables kept sections movie_experiments jobs_file COLLECT
 status=0
 [ "${#run_list[@]}" -gt 0 ] && { printf '%s\n' "${run_list[@]}" | parallel --will-cite -j "$JOBS" --line-buffer collect_one || status=1; }
 declare -A exp_wall
@@ -373,7 +373,9 @@ for exp in "${run_list[@]}"; do exp_wall[$exp]=$(cat "$sections/$exp.wall" 2>/de
 # Not of an experiment that read kept cases of other code: its rows would carry this commit for
 # runs it did not make (those rows' records: paper/record_kept_uncertainty.sh); they stay in
 # results/<experiment>/uncertainty.csv.
-# (A kept case carries its code in its folder's code_id; the cases this code ran have none.)
+# (A kept case carries its code in its folder's code_id; the cases this code ran have none. So an
+# experiment that always reads some kept case, e.g. four_cells_vs_disks its kept pg2002 runs when
+# they are not among its cases, keeps the record of paper/record_kept_uncertainty.sh.)
 other_code=" "
 for exp in "${run_list[@]}"; do
   for f in "$results/$exp"/*/code_id; do
@@ -398,12 +400,14 @@ if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncert
       dropped=$( [ -f "$record" ] && comm -23 <(cut -d, -f1 "$record" | tail -n +2 | sort) <(cut -d, -f1 "$file" | tail -n +2 | sort) | tr '\n' ' ')
       previous=$(mktemp); [ -f "$record" ] && cp "$record" "$previous"
       awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "$record"
-      if [ "$COLLECT" = "1" ] && [ -n "$dropped" ]; then
+      said=""
+      if [ -n "$dropped" ] && [ "$COLLECT" = "1" ] && [ "$(head -1 "$previous")" = "$(head -1 "$file")" ]; then
         awk -F, -v keep=" $dropped" 'FNR > 1 && index(keep, " " $1 " ")' "$previous" >> "$record"
-        log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code); not measured, kept as recorded before: $dropped"
-      else
-        log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$([ -n "$dropped" ] && echo "; not measured, dropped from the record: $dropped")"
+        said="; not measured, kept as recorded before: $dropped"
+      elif [ -n "$dropped" ]; then
+        said="; not measured, dropped from the record: $dropped"
       fi
+      log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$said"
       rm -f "$previous"
     done
   done

@@ -47,8 +47,11 @@ cmp -s "$work/straight/report/README.md" "$work/parallel_stopped/report/README.m
 diff -r "$work/straight/report" "$work/parallel_stopped/report" > /dev/null || { echo "the interrupted run changed the earlier report's figures or data"; exit 1; }
 
 # The rows (id, ours, verdict) of both reports, and every case's summary but what the clock and the command line (its folder) write.
-rows() { cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
-diff <(rows straight) <(rows stopped)
+rows() { [ -s "$work/$1/report/data/cell_free_layer/check.csv" ] || { echo "no table in $work/$1/report/data/cell_free_layer" >&2; return 1; }
+  cut -d, -f1-3 "$work/$1/report/data/cell_free_layer/check.csv"; }
+rows straight > "$work/rows_straight"
+rows stopped > "$work/rows_stopped"
+diff "$work/rows_straight" "$work/rows_stopped"
 for c in n50 n100; do
   diff <(grep -Ev '"(wall_seconds|started|ended|command)"' "$work/straight/cell_free_layer/$c/summary.json") <(grep -Ev '"(wall_seconds|started|ended|command)"' "$work/stopped/cell_free_layer/$c/summary.json")
 done
