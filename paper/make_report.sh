@@ -398,17 +398,16 @@ if [ "$mode" = evidence ] && [ "$COLLECT" != "1" -o -n "$(ls "$results"/*/uncert
       # dropped, not carried over from other code: said here.
       # With COLLECT=1 (the cases finished so far) they stay as they were, each with its own commit.
       dropped=$( [ -f "$record" ] && comm -23 <(cut -d, -f1 "$record" | tail -n +2 | sort) <(cut -d, -f1 "$file" | tail -n +2 | sort) | tr '\n' ' ')
-      previous=$(mktemp); [ -f "$record" ] && cp "$record" "$previous"
-      awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "$record"
-      said=""
-      if [ -n "$dropped" ] && [ "$COLLECT" = "1" ] && [ "$(head -1 "$previous")" = "$(head -1 "$file")" ]; then
-        awk -F, -v keep=" $dropped" 'FNR > 1 && index(keep, " " $1 " ")' "$previous" >> "$record"
+      kept_rows="" said=""
+      if [ -n "$dropped" ] && [ "$COLLECT" = "1" ] && [ "$(head -1 "$record")" = "$(head -1 "$file")" ]; then
+        kept_rows=$(awk -F, -v keep=" $dropped" 'FNR > 1 && index(keep, " " $1 " ")' "$record")
         said="; not measured, kept as recorded before: $dropped"
       elif [ -n "$dropped" ]; then
         said="; not measured, dropped from the record: $dropped"
       fi
+      awk -F, -v c="$commit" -v k="$code" 'NR == 1 {print; next} {sub(/,,$/, "," c "," k); print}' "$file" > "$record"
+      [ -n "$kept_rows" ] && printf '%s\n' "$kept_rows" >> "$record"
       log "u_num of $(( $(wc -l < "$file") - 1 )) rows recorded in $record (commit $commit, code $code)$said"
-      rm -f "$previous"
     done
   done
 fi
