@@ -71,6 +71,7 @@ struct ConvergenceRun {
 
 struct Results {
   RunSummary summary;
+  bool collected_without_run = false;        // --collect found no finished main run: its rows are not run
   double window_start = 0, window_end = 0;   // s
   double u_wide = 0, u_narrow = 0;           // m/s, over the window
   double re_wide = 0, re_narrow = 0;

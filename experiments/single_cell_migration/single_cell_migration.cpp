@@ -480,6 +480,7 @@ Results run(const Params& p) {
     if (!ids.count(s)) continue;
     const Case& c = narrow(s);
     const std::string id = ids.at(s);
+    if (c.failure == case_runner::kNotRun) continue;  // --collect, not finished: its rows say "not run"
     if (!c.failure.empty()) {
       for (const char* row : {"hct_", "re_", "centreline_"}) res.measured[std::string(row) + id] = {{}, false, "run failed: " + c.failure};
       continue;
