@@ -54,6 +54,13 @@ int main(int argc, char** argv) {
                 r.summary.steps, r.summary.t_end, r.summary.wall_seconds, r.u_wide * 100, r.u_narrow * 100, r.u_narrow / r.u_wide,
                 r.re_wide, r.re_narrow, r.hematocrit);
     const int study = check ? rbc::run_reference_check("constriction", r.measured, p.out_dir, std::cout, !p.quick) : 0;
+    if (r.collected_without_run) {  // no quick record to check or write: its rows are not run
+      if (record) {
+        std::fprintf(stderr, "constriction: error: --record-regression with the run not run (--collect): the record would lose it\n");
+        return 2;
+      }
+      return study;
+    }
     return std::max(study, rbc::handle_quick_record("constriction", r.quick_record, p.quick, record, check, p.out_dir, std::cout));
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "constriction: %s; continue with the same command and --resume\n", e.what());

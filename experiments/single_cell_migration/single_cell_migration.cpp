@@ -321,7 +321,7 @@ void re_evidence_table(const Params& p, Results& res) {
   for (double s : p.swelling_ratios) {
     const std::string with = "narrow_" + p.membrane.units + "_" + tag(s), without = kNoAreaTermPrefix + tag(s);
     const auto a = res.cases.find(with), b = res.cases.find(without);
-    if (a == res.cases.end() || b == res.cases.end() || !b->second.failure.empty()) continue;
+    if (a == res.cases.end() || b == res.cases.end() || !a->second.failure.empty() || !b->second.failure.empty()) continue;
     char row[256];
     std::snprintf(row, sizeof row, "| %g | %.4f | %.4f | %+.2e | %s |\n", s, a->second.summary.reynolds, b->second.summary.reynolds,
                   b->second.summary.cells.empty() ? NAN : b->second.summary.cells[0].area_drift, study[s].c_str());
