@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 #include "constriction/constriction.hpp"
@@ -42,6 +43,27 @@ TEST(ConstrictionExperiment, QuickBinaryWritesWhereToldAndItsFiguresAreDrawn) {
   for (const char* fig : {"constriction_membranes.png", "constriction_velocity.png", "constriction_centroids.png"})
     EXPECT_TRUE(std::filesystem::exists(dir / fig)) << fig;
   std::filesystem::remove_all(dir);
+}
+
+// make evidence COLLECT=1 reads what is kept: with no finished run in the folder the collection
+// runs nothing and every row says "not run" (it stopped with an error before).
+TEST(ConstrictionExperiment, CollectWithoutAFinishedRunRunsNothingAndItsRowsAreNotRun) {
+  constriction::Params p;
+  p.collect = true;
+  p.progress = false;
+  p.out_dir = (std::filesystem::temp_directory_path() / "rbcflow_constriction_collect_empty").string();
+  std::filesystem::remove_all(p.out_dir);
+  const auto r = constriction::run(p);
+  EXPECT_TRUE(r.collected_without_run);
+  EXPECT_TRUE(r.measured.empty());
+  EXPECT_FALSE(std::filesystem::exists(std::filesystem::path(p.out_dir) / "run" / "series.csv"));
+  const auto rows = load_reference_table(reference_table_path("constriction"));
+  const CheckSummary s = compare_with_reference(rows, r.measured, {}, true);
+  EXPECT_EQ(s.not_run, int(rows.size()));
+  EXPECT_EQ(s.failed, 0);
+  std::ostringstream out;
+  EXPECT_EQ(run_reference_check("constriction", r.measured, p.out_dir, out, true), 0);
+  std::filesystem::remove_all(p.out_dir);
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 #include <random>
 
 #include "diagnostics/cell_diagnostics.hpp"
@@ -276,6 +278,42 @@ TEST(MembraneCrossing, IsFoundAcrossThePeriodicBoundaryAndForUnwrappedNodes) {
   ASSERT_TRUE(find_membrane_crossing(far, L).has_value());
   // Not periodic (L = 0): their centres are 16 um apart and they do not cross.
   EXPECT_FALSE(find_membrane_crossing(m, 0.0).has_value());
+}
+
+// The sweep along x1 reports what testing every pair of segments in order (i, then j) reports:
+// the same first pair and point, on polygons that cross themselves somewhere or nowhere.
+TEST(MembraneCrossing, ASelfCrossingIsTheFirstPairThatEveryPairInOrderFinds) {
+  auto orient = [](const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r) {
+    return (q.x() - p.x()) * (r.y() - p.y()) - (q.y() - p.y()) * (r.x() - p.x());
+  };
+  auto every_pair = [&](const Points& a) -> std::optional<std::pair<std::size_t, std::size_t>> {
+    const std::size_t n = a.size();
+    for (std::size_t i = 0; i + 2 < n; ++i)
+      for (std::size_t j = i + 2; j < (i == 0 ? n - 1 : n); ++j) {
+        const Eigen::Vector2d &p = a[i], &q = a[i + 1], &r = a[j], &s = a[(j + 1) % n];
+        const double o1 = orient(p, q, r), o2 = orient(p, q, s), o3 = orient(r, s, p), o4 = orient(r, s, q);
+        if (!((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0) || (o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0))) return std::pair{i, j};
+      }
+    return std::nullopt;
+  };
+  std::mt19937 gen(11);
+  std::uniform_real_distribution<double> wiggle(-0.25, 0.25), place(0.0, 1.0);
+  int crossing = 0, clean = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    Points a = circle_at({5e-6, 5e-6}, 2.8e-6);
+    const double amplitude = trial % 2 ? 0.05 : 0.6;  // small: no crossing; large: crossings
+    for (auto& x : a) x = Eigen::Vector2d(5e-6, 5e-6) + (x - Eigen::Vector2d(5e-6, 5e-6)) * (1 + amplitude * wiggle(gen));
+    if (trial % 5 == 0) std::swap(a[std::size_t(place(gen) * 75)], a[std::size_t(place(gen) * 75)]);
+    const auto want = every_pair(a);
+    const auto got = membrane_crosses_itself(a);
+    ASSERT_EQ(got.has_value(), want.has_value()) << trial;
+    if (!want) { ++clean; continue; }
+    ++crossing;
+    EXPECT_EQ(got->segment_a, want->first) << trial;
+    EXPECT_EQ(got->segment_b, want->second) << trial;
+  }
+  EXPECT_GT(crossing, 50);
+  EXPECT_GT(clean, 50);
 }
 
 TEST(MembraneCrossing, AMembraneThatCrossesItselfIsFoundAndNeighbouringSegmentsAreNot) {

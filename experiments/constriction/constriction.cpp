@@ -233,10 +233,13 @@ Results run(const Params& p) {
   const Scene scene = load_scene_file(std::string(RBCFLOW_SOURCE_DIR) + "/experiments/constriction/constriction.toml", overrides);
   const fs::path out = fs::path(p.out_dir) / "run";
   const std::optional<RunSummary> done = p.reuse || p.collect ? read_finished_run(out.string(), scene) : std::nullopt;
-  if (done) res.summary = *done;
-  else if (p.collect)
-    throw std::runtime_error("--collect: no finished run of today's scene in " + out.string() + " (run it without --collect)");
-  else {
+  if (done) {
+    res.summary = *done;
+  } else if (p.collect) {  // nothing to read back: the comparison says "not run" for its rows
+    res.collected_without_run = true;
+    if (p.only.empty() && !p.quick && p.convergence) convergence_study(p, res);
+    return res;
+  } else {
     const bool resume = p.resume && has_checkpoint(out.string());
     res.summary = run_scene(scene, {.out_dir = out.string(), .threads = p.threads, .progress = p.progress, .label = "constriction",
                                     .checkpoint_wall = 300, .resume = resume});

@@ -41,7 +41,7 @@ struct Params {
   bool progress = true;
   bool resume = false;  // continue from the checkpoint in out_dir/run
   bool reuse = false;   // read a finished run in out_dir/run instead of running it again
-  bool collect = false; // with reuse: run nothing; no finished main run is an error, a convergence run not finished is "not run"
+  bool collect = false; // with reuse: run nothing; the rows of a run not finished (main or convergence) are "not run"
   // Error against run time (full runs only): short runs of the same scene over h and Δt with
   // both couplings, in out_dir/conv/<case>; compared at kConvTime with the finest explicit run.
   bool convergence = true;
@@ -71,6 +71,7 @@ struct ConvergenceRun {
 
 struct Results {
   RunSummary summary;
+  bool collected_without_run = false;        // --collect found no finished main run: its rows are not run
   double window_start = 0, window_end = 0;   // s
   double u_wide = 0, u_narrow = 0;           // m/s, over the window
   double re_wide = 0, re_narrow = 0;

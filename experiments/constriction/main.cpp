@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   bool list = false;
   app.add_flag("--list-cases", list, "print the cases' names (the experiment's run, then the convergence study's), one per line (for GNU parallel)");
   app.add_option("--only", p.only, "run this case only (a name from --list-cases), no comparison");
-  app.add_flag("--collect", p.collect, "read back the finished runs in the output folder and run none (convergence runs not finished: not run)");
+  app.add_flag("--collect", p.collect, "read back the finished runs in the output folder and run none (a run not finished: its rows not run)");
   app.add_flag("--record-regression", record,
                "with --quick: write this run's numbers into reference-data/regression/constriction_quick.csv (keeps the bands)");
   CLI11_PARSE(app, argc, argv);
@@ -46,11 +46,21 @@ int main(int argc, char** argv) {
     if (check && !p.only.empty()) throw std::invalid_argument("--check compares the whole experiment: drop --only (add --reuse after running the cases)");
     const auto r = rbc::constriction::run(p);
     if (!p.only.empty()) return 0;
-    std::printf("constriction: %ld steps to %.4g s in %.1f s wall; U_wide = %.4f cm/s, U_narrow = %.4f cm/s (ratio %.4f), "
+    if (r.collected_without_run)
+      std::printf("constriction: --collect: no finished run of today's scene in %s/run: its rows not run\n", p.out_dir.c_str());
+    else
+      std::printf("constriction: %ld steps to %.4g s in %.1f s wall; U_wide = %.4f cm/s, U_narrow = %.4f cm/s (ratio %.4f), "
                 "Re %.4f / %.4f; Hct %.4f %%\n",
                 r.summary.steps, r.summary.t_end, r.summary.wall_seconds, r.u_wide * 100, r.u_narrow * 100, r.u_narrow / r.u_wide,
                 r.re_wide, r.re_narrow, r.hematocrit);
     const int study = check ? rbc::run_reference_check("constriction", r.measured, p.out_dir, std::cout, !p.quick) : 0;
+    if (r.collected_without_run) {  // no quick record to check or write: its rows are not run
+      if (record) {
+        std::fprintf(stderr, "constriction: error: --record-regression with the run not run (--collect): the record would lose it\n");
+        return 2;
+      }
+      return study;
+    }
     return std::max(study, rbc::handle_quick_record("constriction", r.quick_record, p.quick, record, check, p.out_dir, std::cout));
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "constriction: %s; continue with the same command and --resume\n", e.what());

@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "common/case_runner.hpp"
 #include "single_cell_migration.hpp"
 #include "io/provenance.hpp"
 
@@ -59,8 +60,9 @@ int main(int argc, char** argv) {
     cases << "case,swelling_ratio,units,steps,wall_seconds,reynolds,hematocrit,y_end_um,time_to_centreline_ms,shape,area_drift\n";
     for (const auto& [name, c] : r.cases) {
       if (!c.failure.empty()) {
-        std::printf("%-22s FAILED: %s\n", name.c_str(), c.failure.c_str());
-        cases << name << "," << c.swelling_ratio << "," << c.units << ",failed,,,,,,,\n";
+        const bool not_run = c.failure == rbc::case_runner::kNotRun;
+        std::printf("%-22s %s: %s\n", name.c_str(), not_run ? "not run" : "FAILED", c.failure.c_str());
+        cases << name << "," << c.swelling_ratio << "," << c.units << "," << (not_run ? "not run" : "failed") << ",,,,,,,\n";
         continue;
       }
       const auto& cell = c.summary.cells.at(0);
@@ -75,6 +77,10 @@ int main(int argc, char** argv) {
     if (check && !p.only.empty())
       throw std::invalid_argument("--check compares the whole experiment: drop --only (or add --reuse after running the parts)");
     const int study = check ? rbc::run_reference_check("single_cell_migration", r.measured, p.out_dir, std::cout, !quick) : 0;
+    if (record && std::any_of(r.cases.begin(), r.cases.end(), [](const auto& kv) { return kv.second.failure == rbc::case_runner::kNotRun; })) {
+      std::fprintf(stderr, "single_cell_migration: error: --record-regression with cases not run (--collect): the record would lose them\n");
+      return 2;
+    }
     return std::max(study, rbc::handle_quick_record("single_cell_migration", r.quick_record, quick, record, check, p.out_dir, std::cout));
   } catch (const rbc::RunInterrupted& e) {
     std::fprintf(stderr, "%s\n", e.what());

@@ -321,7 +321,7 @@ void re_evidence_table(const Params& p, Results& res) {
   for (double s : p.swelling_ratios) {
     const std::string with = "narrow_" + p.membrane.units + "_" + tag(s), without = kNoAreaTermPrefix + tag(s);
     const auto a = res.cases.find(with), b = res.cases.find(without);
-    if (a == res.cases.end() || b == res.cases.end() || !b->second.failure.empty()) continue;
+    if (a == res.cases.end() || b == res.cases.end() || !a->second.failure.empty() || !b->second.failure.empty()) continue;
     char row[256];
     std::snprintf(row, sizeof row, "| %g | %.4f | %.4f | %+.2e | %s |\n", s, a->second.summary.reynolds, b->second.summary.reynolds,
                   b->second.summary.cells.empty() ? NAN : b->second.summary.cells[0].area_drift, study[s].c_str());
@@ -480,6 +480,7 @@ Results run(const Params& p) {
     if (!ids.count(s)) continue;
     const Case& c = narrow(s);
     const std::string id = ids.at(s);
+    if (c.failure == case_runner::kNotRun) continue;  // --collect, not finished: its rows say "not run"
     if (!c.failure.empty()) {
       for (const char* row : {"hct_", "re_", "centreline_"}) res.measured[std::string(row) + id] = {{}, false, "run failed: " + c.failure};
       continue;

@@ -57,6 +57,11 @@ int main(int argc, char** argv) {
   try {
     const sm::Results r = sm::run(p);
     if (!only.empty()) return 0;
+    if (record && !r.not_run.empty()) {
+      std::fprintf(stderr, "stability_map: error: --record-regression with %zu cases not run (--collect): the record would lose them\n",
+                   r.not_run.size());
+      return 2;
+    }
     int unstable_extremes = 0;
     for (const auto& e : r.extremes) unstable_extremes += !e.stable;
     std::printf("stability map: %zu points, %d of %zu extreme cases stopped; outputs in %s\n", r.points.size(), unstable_extremes,

@@ -92,23 +92,34 @@ std::optional<MembraneCrossing> membranes_cross(const Points& a, const Points& b
 }
 
 std::optional<MembraneCrossing> membrane_crosses_itself(const Points& a) {
+  // Sweep along x1: the segments sorted by their left end, so that a segment's box can overlap
+  // only those of the segments that start before it ends (a few, not all N: this runs for every
+  // cell at every step). Of the pairs that cross, the first in the order (i, then j) is returned,
+  // as testing every pair in that order would; the same test, segment i first.
   const std::size_t n = a.size();
   if (n < 4) return std::nullopt;
-  for (std::size_t i = 0; i + 2 < n; ++i) {
+  struct Segment {
+    double x0, x1, y0, y1;
+    std::size_t i;
+  };
+  thread_local std::vector<Segment> seg;
+  seg.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
     const Eigen::Vector2d& p = a[i];
-    const Eigen::Vector2d& q = a[i + 1];
-    const double sx0 = std::min(p.x(), q.x()), sx1 = std::max(p.x(), q.x());
-    const double sy0 = std::min(p.y(), q.y()), sy1 = std::max(p.y(), q.y());
-    // Segments j > i + 1 that share no node with i (the last one, n − 1, shares node 0 with i = 0).
-    for (std::size_t j = i + 2; j < (i == 0 ? n - 1 : n); ++j) {
-      const Eigen::Vector2d& r = a[j];
-      const Eigen::Vector2d& s = a[(j + 1) % n];
-      if (std::max(r.x(), s.x()) < sx0 || std::min(r.x(), s.x()) > sx1 || std::max(r.y(), s.y()) < sy0 || std::min(r.y(), s.y()) > sy1)
-        continue;
-      if (const auto at = segments_cross(p, q, r, s)) return MembraneCrossing{0, 0, i, j, *at};
-    }
+    const Eigen::Vector2d& q = a[(i + 1) % n];
+    seg[i] = {std::min(p.x(), q.x()), std::max(p.x(), q.x()), std::min(p.y(), q.y()), std::max(p.y(), q.y()), i};
   }
-  return std::nullopt;
+  std::sort(seg.begin(), seg.end(), [](const Segment& u, const Segment& v) { return u.x0 < v.x0 || (u.x0 == v.x0 && u.i < v.i); });
+  std::optional<MembraneCrossing> first;
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t m = k + 1; m < n && seg[m].x0 <= seg[k].x1; ++m) {
+      if (seg[m].y1 < seg[k].y0 || seg[m].y0 > seg[k].y1) continue;
+      const std::size_t i = std::min(seg[k].i, seg[m].i), j = std::max(seg[k].i, seg[m].i);
+      if (j == i + 1 || (i == 0 && j == n - 1)) continue;  // neighbours share a node
+      if (first && (i > first->segment_a || (i == first->segment_a && j > first->segment_b))) continue;
+      if (const auto at = segments_cross(a[i], a[i + 1], a[j], a[(j + 1) % n])) first = MembraneCrossing{0, 0, i, j, *at};
+    }
+  return first;
 }
 
 namespace {
