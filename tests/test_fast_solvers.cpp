@@ -187,6 +187,77 @@ TEST(FastSolvers, TheSinglePrecisionSolverIsTheDoubleOneToFloatRoundOff) {
   EXPECT_GT(e, 0.0);
 }
 
+TEST(FastSolvers, RowsFartherApartThanTwiceTheBandAreProbedTogetherAndAWiderBandNearAWallIsProbedRowByRow) {
+  // Step 4's operator (band 1) on the wide grid is read in 6 products (the middle row, four sets of
+  // rows 4 apart, the check) instead of 159. The same operator with row 0 coupled to row 3 (band 3
+  // at the wall only: a response farther than 1 from every probed row) or to row 4 (a response on
+  // another probed row, which only the check on a pseudo-random field finds: 1 + 4 + 1 products)
+  // is then probed one row at a time. Claim: each solves to round-off (residual within 1e-13 of the
+  // largest right-hand side).
+  const ChannelMesh m = ChannelMesh::make(100e-6, 50e-6, 0.3125e-6);
+  const int nx = m.nx, rows = m.ny - 1;
+  for (const int coupled : {0, 3, 4}) {
+    int products = 0;
+    auto apply = [&](const std::vector<double>& in, std::vector<double>& out) {
+      ++products;
+      for (int r = 0; r < rows; ++r)
+        for (int i = 0; i < nx; ++i) {
+          double s = 6.0 * in[r * nx + i] - (in[r * nx + (i + 1) % nx] + in[r * nx + (i + nx - 1) % nx]);
+          if (r > 0) s -= in[(r - 1) * nx + i];
+          if (r + 1 < rows) s -= in[(r + 1) * nx + i];
+          if (coupled && r == 0) s -= 0.5 * in[coupled * nx + i];
+          if (coupled && r == coupled) s -= 0.5 * in[i];
+          out[r * nx + i] = s;
+        }
+    };
+    PeriodicBandedSolver solver(nx, rows, apply, false);
+    EXPECT_EQ(solver.half_bandwidth(), coupled ? coupled : 1);
+    // With row 3 coupled, the set of row 3 finds row 0's response before the check.
+    const int expected = coupled == 0 ? 6 : coupled == 3 ? 1 + 4 + rows : 1 + 4 + 1 + rows;
+    EXPECT_EQ(products, expected);
+    const std::vector<double> b = random_vector(std::size_t(nx) * rows, 9);
+    std::vector<double> x(b.size()), r(b.size());
+    solver.solve(b.data(), x.data());
+    apply(x, r);
+    double e = 0;
+    for (std::size_t k = 0; k < b.size(); ++k) e = std::max(e, std::abs(r[k] - b[k]));
+    EXPECT_LT(e, 1e-13);
+  }
+}
+
+TEST(FastSolvers, ASolverFromAnotherSolversFactorsIsTheSolverOfItsOperatorBitForBit) {
+  // The GMRES products' single-precision solvers take the fluid's double solvers' factors
+  // (coupling_products.cpp) instead of probing the same operators again. Claim: the same solves,
+  // bit for bit, as a single-precision solver built from the operator; for step 4's operator and
+  // for the Schur complement (a constant kernel).
+  const ChannelMesh m = ChannelMesh::make(20e-6, 10e-6, 0.3125e-6);
+  ImplicitDiffusion diffusion(m, 1000.0, 1.2e-3, 3e-6);
+  QuasiStokesProjection proj(m, PressurePreconditioner::schur, 1e-12, 50);
+  // S p = B M⁻¹ Bᵀ p, M = h² (QuasiStokesProjection's apply_schur).
+  const DivergenceStencil B(m);
+  auto schur = [&](const std::vector<double>& p, std::vector<double>& out) {
+    std::vector<double> g1, g2;
+    B.apply_transpose(p, g1, g2);
+    for (std::size_t n = 0; n < g1.size(); ++n) { g1[n] *= 1.0 / (m.h * m.h); g2[n] *= 1.0 / (m.h * m.h); }
+    B.apply(g1, g2, out);
+  };
+  struct Case { const PeriodicBandedSolver& factored; PeriodicBandedSolver::Operator apply; int nx, rows; bool constant_kernel; };
+  for (const Case& c : {Case{diffusion.helmholtz(), diffusion.helmholtz_operator(), m.nx, m.ny - 1, false},
+                        Case{proj.schur_solver(), schur, m.pnx(), m.pny(), true}}) {
+    SinglePeriodicBandedSolver probed(c.nx, c.rows, c.apply, c.constant_kernel), taken(FactorsOf{c.factored});
+    std::vector<double> b = random_vector(std::size_t(c.nx) * c.rows, 10);
+    if (c.constant_kernel) {  // compatible: zero sum
+      double mean = 0;
+      for (double v : b) mean += v / double(b.size());
+      for (double& v : b) v -= mean;
+    }
+    std::vector<double> x(b.size()), y(b.size());
+    probed.solve(b.data(), x.data());
+    taken.solve(b.data(), y.data());
+    EXPECT_EQ(x, y);
+  }
+}
+
 TEST(FastSolvers, AnOperatorNotSymmetricInX1TakesTheComplexPathAndStillSolves) {
   // Step 4's operator plus an upwind-like x1 difference (a(1) ≠ a(−1)): a complex symbol.
   const int nx = 16, rows = 7;

@@ -122,6 +122,24 @@ TEST(ShapePreparation, SwellingRatioOneIsTheRegularPolygonAtRestAndFeelsNoForce)
   EXPECT_EQ(prepare_shape(kStudy, 0.9995).nodes, p.nodes);
 }
 
+TEST(ShapePreparation, EachModelAndSwellingRatioIsMinimisedOnceAndAnyChangeOfEitherIsMinimisedAgain) {
+  // prepare_shape keeps what it prepared (a run asks for the same shape in the scene's check, the
+  // run and the extrapolated scheme's half steps). Claim: asked again, the same shape (every
+  // value, the iteration count too); with k_b, k_s or s* changed, another minimum.
+  MembraneModel m = kStudy;
+  m.kb *= 3.0;  // a model no other test prepares
+  const PreparedShape a = prepare_shape(m, 0.62);
+  const PreparedShape b = prepare_shape(m, 0.62);
+  EXPECT_EQ(a.nodes, b.nodes);
+  EXPECT_EQ(a.iterations, b.iterations);
+  MembraneModel stiffer = m, firmer_area = m;
+  stiffer.kb *= 2.0;
+  firmer_area.ks *= 2.0;
+  EXPECT_NE(prepare_shape(stiffer, 0.62).nodes, a.nodes);
+  EXPECT_NE(prepare_shape(m, 0.63).nodes, a.nodes);
+  EXPECT_NE(prepare_shape(firmer_area, 0.62).nodes, a.nodes);
+}
+
 TEST(ShapePreparation, ShapeDoesNotDependOnTheUnitReading) {
   // Only the ratios k_b/k_l and k_s/k_l enter the minimiser.
   MembraneConstants cgs;

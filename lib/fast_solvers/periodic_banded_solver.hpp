@@ -5,8 +5,9 @@
 // Because A commutes with the shift in x1, the discrete Fourier transform in x1 block-
 // diagonalises it:  (A x)^_k = Â_k x̂_k,  Â_k[j][j'] = Σ_d a_{j,j'}(d) e^{-2πi k d / nx},
 // where a_{j,j'}(d) is the response in row j, column d, to a unit value at (0, j').
-// We read the symbol off A itself by applying it once to a unit value in each row of column 0
-// (a "probe"), factor every Â_k (Hermitian and banded) by LU once, and then each solve costs one
+// We read the symbol off A itself by applying it to a unit value in each row of column 0 (a
+// "probe"; rows farther apart than twice the band probed together, the .cpp says how), factor
+// every Â_k (Hermitian and banded) by LU once, and then each solve costs one
 // real FFT pair in x1 plus nx/2+1 banded triangular solves. An operator symmetric in x1
 // (a_{j,j'}(d) = a_{j,j'}(−d) for every tap, as step 4's) has a real symbol; its substitutions
 // multiply by reals only. With OpenMP one field's rows' transforms and modes' substitutions are
@@ -32,6 +33,13 @@
 namespace rbc {
 
 template <class Real>
+class BasicPeriodicBandedSolver;
+// A double solver whose factors another solver of the same operator takes (below).
+struct FactorsOf {
+  const BasicPeriodicBandedSolver<double>& solver;
+};
+
+template <class Real>
 class BasicPeriodicBandedSolver {
   static_assert(std::is_same_v<Real, double> || std::is_same_v<Real, float>);
 
@@ -40,6 +48,9 @@ class BasicPeriodicBandedSolver {
   using Operator = std::function<void(const Field& in, Field& out)>;
 
   BasicPeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel);
+  // The solver of a double solver's operator, from its factors (rounded once to Real): the same,
+  // bit for bit, as the solver built from that operator, without probing it again.
+  explicit BasicPeriodicBandedSolver(FactorsOf factored);
   ~BasicPeriodicBandedSolver();
   BasicPeriodicBandedSolver(const BasicPeriodicBandedSolver&) = delete;
   BasicPeriodicBandedSolver& operator=(const BasicPeriodicBandedSolver&) = delete;
@@ -80,6 +91,9 @@ class BasicPeriodicBandedSolver {
   int half_ = 0;  // first row of the second half
   using Plan = std::conditional_t<std::is_same_v<Real, double>, fftw_plan, fftwf_plan>;
   Plan forward_[2] = {nullptr, nullptr}, backward_[2] = {nullptr, nullptr};
+  void lay_out_and_plan();  // fre_, fim_ from lu_, and the transforms' arrays and plans
+  template <class>
+  friend class BasicPeriodicBandedSolver;
   cplx& entry(int k, int j, int jp) { return lu_[(std::size_t(k) * rows_ + j) * (2 * band_ + 1) + (jp - j + band_)]; }
 };
 

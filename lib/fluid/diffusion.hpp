@@ -48,6 +48,7 @@ class ImplicitDiffusion {
   bool constrained() const { return constraint_ != nullptr; }
   // The unconstrained A⁻¹ (what the constraint's own iterations call).
   PeriodicBandedSolver& helmholtz() { return *solver_; }
+  const PeriodicBandedSolver& helmholtz() const { return *solver_; }
   // The Helmholtz operator on the interior rows (what the fast solver inverts).
   PeriodicBandedSolver::Operator helmholtz_operator() const;
 

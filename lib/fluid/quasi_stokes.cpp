@@ -198,10 +198,6 @@ void QuasiStokesProjection::pressure_force(const std::vector<double>& p, Velocit
   }
 }
 
-PeriodicBandedSolver::Operator QuasiStokesProjection::schur_operator() const {
-  return [this](const std::vector<double>& in, std::vector<double>& out) { apply_schur(in, out); };
-}
-
 void QuasiStokesProjection::projected_at(const VelocityField& u, const std::vector<double>& p, double rho, double dt, int i, int j,
                                          double& v1, double& v2) const {
   // add_pressure_gradient's value at the one node (the walls: u).

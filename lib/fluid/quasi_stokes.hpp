@@ -62,9 +62,9 @@ class QuasiStokesProjection {
   // The pressure as a nodal force density for step 4, out = M⁻¹ Bᵀ p (N/m³ for p in Pa; zero on
   // the walls): the incremental form's −∇p (channel_flow.hpp).
   void pressure_force(const std::vector<double>& p, VelocityField& out);
-  // Whether S⁻¹ is the exact fast solve, and S itself as an operator (to build another solver of it).
+  // Whether S⁻¹ is the exact fast solve, and that solver (another solver of S takes its factors).
   bool exact_schur_solve() const { return exact_pc_; }
-  PeriodicBandedSolver::Operator schur_operator() const;
+  const PeriodicBandedSolver& schur_solver() const { return *pc_; }
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;

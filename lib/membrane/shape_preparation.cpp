@@ -1,8 +1,10 @@
 #include "membrane/shape_preparation.hpp"
 
 #include <cmath>
+#include <mutex>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <gsl/gsl_multimin.h>
@@ -51,10 +53,31 @@ Eigen::VectorXd gradient(const Problem& pb, const Eigen::VectorXd& x) {
   return g;
 }
 
+PreparedShape minimise(const MembraneModel& model, double s_star);
+
 }  // namespace
 
 PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   if (!(s_star > 0.0 && s_star <= 1.0)) throw std::invalid_argument("swelling ratio must be in (0, 1]");
+  // The same shape is asked for again by each simulation of a run (the scene's check, the run,
+  // the extrapolated scheme's half steps): each (model, s*) is minimised once per process.
+  struct Prepared { MembraneModel model; double s_star; PreparedShape shape; };
+  static std::mutex lock;
+  static std::vector<Prepared> prepared;
+  {
+    std::lock_guard<std::mutex> guard(lock);
+    for (const Prepared& p : prepared)
+      if (p.model == model && p.s_star == s_star) return p.shape;
+  }
+  PreparedShape shape = minimise(model, s_star);
+  std::lock_guard<std::mutex> guard(lock);
+  prepared.push_back({model, s_star, shape});
+  return shape;
+}
+
+namespace {
+
+PreparedShape minimise(const MembraneModel& model, double s_star) {
   const int n = model.nodes;
   const double R0 = model.radius, pi = std::numbers::pi;
   PreparedShape out;
@@ -127,6 +150,8 @@ PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   out.perimeter_error = (perimeter(circle) - 2 * pi * R0) / (2 * pi * R0);
   return out;
 }
+
+}  // namespace
 
 double max_swelling_ratio(int nodes) {
   const double a = std::numbers::pi / nodes;

@@ -41,6 +41,7 @@ struct MembraneModel {
   bool area_penalty = true;       // E_s in the force (8)
   double rest_length() const;     // l0 = 2πR0/N, m
   static MembraneModel from(const MembraneConstants& c, int nodes, double radius, bool area_penalty = true);
+  bool operator==(const MembraneModel&) const = default;
 };
 
 struct MembraneEnergy {

@@ -15,8 +15,9 @@ CouplingProducts::CouplingProducts(const ChannelMesh& mesh, ImplicitDiffusion& d
       rhs2_(rhs1_.size(), 0.0),
       pressure_(mesh.pressure_nodes(), 0.0) {
   if (precision == Precision::kSingleWherePossible && !diffusion.constrained() && projection.exact_schur_solve()) {
-    single_helmholtz_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.nx, mesh.ny - 1, diffusion.helmholtz_operator(), false);
-    single_schur_ = std::make_unique<SinglePeriodicBandedSolver>(mesh.pnx(), mesh.pny(), projection.schur_operator(), true);
+    // The fluid's own solvers of the same two operators, their factors rounded.
+    single_helmholtz_ = std::make_unique<SinglePeriodicBandedSolver>(FactorsOf{diffusion.helmholtz()});
+    single_schur_ = std::make_unique<SinglePeriodicBandedSolver>(FactorsOf{projection.schur_solver()});
     schur_solve_ = [this](const double* r, double* z) { single_schur_->solve(r, z); };
   }
 }

@@ -20,27 +20,34 @@ void StepMobility::tabulate_source_row(int js) {
   if (!table_[js].empty()) return;
   const int nx = m_.nx;
   const std::size_t plane = std::size_t(nx) * rows_;
-  table_[js].assign(plane * 8, 0.0);
-  VelocityField u(m_);
+  table_[js].resize(plane * 8);  // every value written below
+  VelocityField u[2] = {VelocityField(m_), VelocityField(m_)};
   std::vector<double> p(m_.pressure_nodes(), 0.0), b(plane);
-  for (int parity = 0; parity < 2; ++parity)
+  for (int parity = 0; parity < 2; ++parity) {
+    // A⁻¹ of a unit value at node (parity, js + 1): the same for either component β.
+    std::fill(b.begin(), b.end(), 0.0);
+    b[std::size_t(js) * nx + parity] = 1.0;
+    diffusion_.solve_interior(b.data());
     for (int beta = 0; beta < 2; ++beta) {
-      // P A⁻¹ applied to a unit value in component β at node (parity, js + 1).
-      std::fill(u.u1.begin(), u.u1.end(), 0.0);
-      std::fill(u.u2.begin(), u.u2.end(), 0.0);
-      std::fill(b.begin(), b.end(), 0.0);
-      b[std::size_t(js) * nx + parity] = 1.0;
-      diffusion_.solve_interior(b.data());
-      std::copy(b.begin(), b.end(), (beta == 0 ? u.u1 : u.u2).begin() + nx);
+      // P A⁻¹ applied to a unit value in component β at that node.
+      std::fill(u[beta].u1.begin(), u[beta].u1.end(), 0.0);
+      std::fill(u[beta].u2.begin(), u[beta].u2.end(), 0.0);
+      std::copy(b.begin(), b.end(), (beta == 0 ? u[beta].u1 : u[beta].u2).begin() + nx);
       std::fill(p.begin(), p.end(), 0.0);
-      projection_.project(u, u, p, rho_, dt_, ProjectionForm::iterative);
-      for (int alpha = 0; alpha < 2; ++alpha) {
-        const std::vector<double>& f = alpha == 0 ? u.u1 : u.u2;
-        for (int j = 0; j < rows_; ++j)
-          for (int i = 0; i < nx; ++i)  // stored by column offset i − parity
-            entry(j, js, wrap_index(i - parity, nx))[4 * parity + 2 * alpha + beta] = f[std::size_t(j + 1) * nx + i];
-      }
+      projection_.project(u[beta], u[beta], p, rho_, dt_, ProjectionForm::iterative);
     }
+    // T_αβ for this parity, the four values of an entry written together (stored by column
+    // offset i − parity).
+    for (int j = 0; j < rows_; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const std::size_t n = std::size_t(j + 1) * nx + i;
+        double* t = entry(j, js, wrap_index(i - parity, nx)) + 4 * parity;
+        t[0] = u[0].u1[n];  // α = 0, β = 0
+        t[1] = u[1].u1[n];  // α = 0, β = 1
+        t[2] = u[0].u2[n];  // α = 1, β = 0
+        t[3] = u[1].u2[n];  // α = 1, β = 1
+      }
+  }
 }
 
 int StepMobility::rows_tabulated() const {
