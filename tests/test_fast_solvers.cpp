@@ -225,6 +225,27 @@ TEST(FastSolvers, RowsFartherApartThanTwiceTheBandAreProbedTogetherAndAWiderBand
   }
 }
 
+TEST(FastSolvers, RowsProbedTogetherGiveTheTapsOfOneProbePerRowBitForBit) {
+  // Claim: the same taps (values and order) as one probe per row, for step 4's operator on the wide
+  // grid and the Schur complement B M⁻¹ Bᵀ on its coarse grid (band 2).
+  const ChannelMesh m = ChannelMesh::make(100e-6, 50e-6, 0.3125e-6);
+  ImplicitDiffusion diffusion(m, 1000.0, 1.2e-3, 3e-6);
+  const DivergenceStencil B(m);
+  auto schur = [&](const std::vector<double>& p, std::vector<double>& out) {
+    std::vector<double> g1, g2;
+    B.apply_transpose(p, g1, g2);
+    for (std::size_t n = 0; n < g1.size(); ++n) { g1[n] *= 1.0 / (m.h * m.h); g2[n] *= 1.0 / (m.h * m.h); }
+    B.apply(g1, g2, out);
+  };
+  const auto helmholtz = diffusion.helmholtz_operator();
+  const auto a = detail::probe_taps(m.nx, m.ny - 1, helmholtz), b = detail::probe_taps(m.nx, m.ny - 1, helmholtz, true);
+  const auto c = detail::probe_taps(m.pnx(), m.pny(), schur), d = detail::probe_taps(m.pnx(), m.pny(), schur, true);
+  EXPECT_EQ(a.size(), std::size_t(m.ny - 1) * 5 - 2);  // five taps a row, four in the rows next to the walls
+  EXPECT_EQ(a, b);
+  EXPECT_GT(c.size(), a.size() / 4);
+  EXPECT_EQ(c, d);
+}
+
 TEST(FastSolvers, ASolverFromAnotherSolversFactorsIsTheSolverOfItsOperatorBitForBit) {
   // The GMRES products' single-precision solvers take the fluid's double solvers' factors
   // (coupling_products.cpp) instead of probing the same operators again. Claim: the same solves,

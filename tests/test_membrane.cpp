@@ -124,12 +124,15 @@ TEST(ShapePreparation, SwellingRatioOneIsTheRegularPolygonAtRestAndFeelsNoForce)
 
 TEST(ShapePreparation, EachModelAndSwellingRatioIsMinimisedOnceAndAnyChangeOfEitherIsMinimisedAgain) {
   // prepare_shape keeps what it prepared (a run asks for the same shape in the scene's check, the
-  // run and the extrapolated scheme's half steps). Claim: asked again, the same shape (every
-  // value, the iteration count too); with k_b, k_s or s* changed, another minimum.
+  // run and the extrapolated scheme's half steps). Claim: asked again, no new minimisation and the
+  // same shape (every value, the iteration count too); with k_b, k_s or s* changed, a new
+  // minimisation each and another minimum.
   MembraneModel m = kStudy;
   m.kb *= 3.0;  // a model no other test prepares
+  const int before = shapes_minimised();
   const PreparedShape a = prepare_shape(m, 0.62);
   const PreparedShape b = prepare_shape(m, 0.62);
+  EXPECT_EQ(shapes_minimised(), before + 1);
   EXPECT_EQ(a.nodes, b.nodes);
   EXPECT_EQ(a.iterations, b.iterations);
   MembraneModel stiffer = m, firmer_area = m;
@@ -138,6 +141,7 @@ TEST(ShapePreparation, EachModelAndSwellingRatioIsMinimisedOnceAndAnyChangeOfEit
   EXPECT_NE(prepare_shape(stiffer, 0.62).nodes, a.nodes);
   EXPECT_NE(prepare_shape(m, 0.63).nodes, a.nodes);
   EXPECT_NE(prepare_shape(firmer_area, 0.62).nodes, a.nodes);
+  EXPECT_EQ(shapes_minimised(), before + 4);
 }
 
 TEST(ShapePreparation, ShapeDoesNotDependOnTheUnitReading) {

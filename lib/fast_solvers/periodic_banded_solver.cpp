@@ -63,18 +63,20 @@ struct Fftw<float> {
 };
 }  // namespace
 
-namespace {
-struct Tap { int j, jp, d; double a; };  // a_{j,j'}(d): the response in row j, column d, to a unit value at (0, j')
-
+namespace detail {
 // The taps of A, read by probes: A applied to unit values at (0, j'). One row's response reaches
 // the rows within the band of it, so rows 2b + 2 apart can be probed together (b: the band of a
 // middle row, probed alone first) and each response given to the nearest probed row: 2b + 4
-// products instead of one per row. The same taps, bit for bit, as probing each row alone: a
-// response reads only the inputs within the band of it, and those are the same in both probes.
-// A response farther than b from every probed row (a wider band near the walls), or a product on a
-// pseudo-random field that the taps do not give back to round-off, sends it to one probe per row.
+// products instead of one per row. The same taps, bit for bit, as probing each row alone, for an
+// operator whose output in a row reads its input only in the rows within the band (every operator
+// the package probes: step 4's Helmholtz operator, the Schur complement B M⁻¹ Bᵀ, the Neumann
+// Laplacian): the inputs there are the same in both probes. A response farther than b from every
+// probed row (a wider band near the walls), or a product on a pseudo-random field that the taps do
+// not give back to 1e-12, sends it to one probe per row; that check bounds, but does not make
+// bit for bit, an operator that reads farther than its band with contributions below 1e-12.
 // The taps come out by (j', j, d), as one probe per row lists them.
-std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std::vector<double>&, std::vector<double>&)>& apply) {
+std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std::vector<double>&, std::vector<double>&)>& apply,
+                            bool one_row_at_a_time) {
   std::vector<double> e(std::size_t(nx) * rows, 0.0), r(e.size(), 0.0);
   std::vector<Tap> taps;
   // Rows first, first + stride, ... probed at once; each response to its nearest probed row.
@@ -99,7 +101,7 @@ std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std
   for (const Tap& t : taps) band = std::max(band, std::abs(t.j - t.jp));
   taps.clear();
   const int stride = 2 * band + 2;
-  bool together = stride < rows;
+  bool together = stride < rows && !one_row_at_a_time;
   for (int first = 0; together && first < stride; ++first) together = probe(first, stride, band);
   if (together) {
     // The check: A x against the taps' sum on a field of values in [0.5, 1.5), to 1e-12 of Σ|a x|.
@@ -121,26 +123,26 @@ std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std
   std::sort(taps.begin(), taps.end(), [](const Tap& a, const Tap& b) { return std::tie(a.jp, a.j, a.d) < std::tie(b.jp, b.j, b.d); });
   return taps;
 }
-}  // namespace
+}  // namespace detail
 
 template <class Real>
 BasicPeriodicBandedSolver<Real>::BasicPeriodicBandedSolver(int nx, int rows, const Operator& apply, bool constant_kernel)
     : nx_(nx), rows_(rows), nk_(nx / 2 + 1) {
   if (nx < 2 || rows < 1) throw std::invalid_argument("PeriodicBandedSolver: empty grid");
-  const std::vector<Tap> taps = probe_taps(nx, rows, apply);
-  for (const Tap& t : taps) band_ = std::max(band_, std::abs(t.j - t.jp));
+  const std::vector<detail::Tap> taps = detail::probe_taps(nx, rows, apply);
+  for (const detail::Tap& t : taps) band_ = std::max(band_, std::abs(t.j - t.jp));
   // The symbol Â_k, mode by mode, in banded storage.
   lu_.assign(std::size_t(nk_) * rows_ * (2 * band_ + 1), cplx(0.0));
   // An operator symmetric in x1 (every tap a(j, j', d) equal to a(j, j', −d), checked exactly; step
   // 4's is) has a real symbol: its imaginary parts, round-off of sines that cancel, are set to
   // zero, and the solve takes the real path below (half the multiplications).
   std::map<std::tuple<int, int, int>, double> tap_at;
-  for (const Tap& t : taps) tap_at[{t.j, t.jp, t.d}] = t.a;
-  real_symbol_ = std::all_of(taps.begin(), taps.end(), [&](const Tap& t) {
+  for (const detail::Tap& t : taps) tap_at[{t.j, t.jp, t.d}] = t.a;
+  real_symbol_ = std::all_of(taps.begin(), taps.end(), [&](const detail::Tap& t) {
     const auto mirror = tap_at.find({t.j, t.jp, (nx_ - t.d) % nx_});
     return mirror != tap_at.end() && mirror->second == t.a;
   });
-  for (const Tap& t : taps)
+  for (const detail::Tap& t : taps)
     for (int k = 0; k < nk_; ++k) {
       const double phase = -2.0 * std::numbers::pi * double(k) * double(t.d) / double(nx_);
       entry(k, t.j, t.jp) += t.a * cplx(std::cos(phase), real_symbol_ ? 0.0 : std::sin(phase));

@@ -32,6 +32,18 @@
 
 namespace rbc {
 
+namespace detail {
+struct Tap {  // a_{j,j'}(d): the response in row j, column d, to a unit value at (0, j')
+  int j, jp, d;
+  double a;
+  bool operator==(const Tap&) const = default;
+};
+// The taps of an operator, as the solvers read them (the .cpp says how); one_row_at_a_time: one
+// probe per row, what grouping the rows must give bit for bit (tests).
+std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std::vector<double>&, std::vector<double>&)>& apply,
+                            bool one_row_at_a_time = false);
+}  // namespace detail
+
 template <class Real>
 class BasicPeriodicBandedSolver;
 // A double solver whose factors another solver of the same operator takes (below).

@@ -57,6 +57,11 @@ QuasiStokesProjection::QuasiStokesProjection(const ChannelMesh& mesh, PressurePr
   }
 }
 
+const PeriodicBandedSolver& QuasiStokesProjection::schur_solver() const {
+  if (!exact_pc_) throw std::logic_error("QuasiStokesProjection::schur_solver: the preconditioner is not the exact Schur solve");
+  return *pc_;
+}
+
 void QuasiStokesProjection::apply_schur(const std::vector<double>& p, std::vector<double>& out) const {
   // S p = B M⁻¹ Bᵀ p.
   B_.apply_transpose(p, g1_, g2_);

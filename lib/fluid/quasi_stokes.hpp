@@ -64,7 +64,7 @@ class QuasiStokesProjection {
   void pressure_force(const std::vector<double>& p, VelocityField& out);
   // Whether S⁻¹ is the exact fast solve, and that solver (another solver of S takes its factors).
   bool exact_schur_solve() const { return exact_pc_; }
-  const PeriodicBandedSolver& schur_solver() const { return *pc_; }
+  const PeriodicBandedSolver& schur_solver() const;  // throws std::logic_error unless exact_schur_solve()
 
   // (B u)_Q = ∫ q_Q ∇·u_h over every coarse node (m/s · m).
   void divergence(const VelocityField& u, std::vector<double>& div) const;

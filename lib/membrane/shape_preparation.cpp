@@ -55,24 +55,33 @@ Eigen::VectorXd gradient(const Problem& pb, const Eigen::VectorXd& x) {
 
 PreparedShape minimise(const MembraneModel& model, double s_star);
 
+// What prepare_shape has minimised in this process.
+struct Prepared {
+  MembraneModel model;
+  double s_star;
+  PreparedShape shape;
+};
+std::mutex prepared_lock;
+std::vector<Prepared> prepared;
+
 }  // namespace
 
 PreparedShape prepare_shape(const MembraneModel& model, double s_star) {
   if (!(s_star > 0.0 && s_star <= 1.0)) throw std::invalid_argument("swelling ratio must be in (0, 1]");
-  // The same shape is asked for again by each simulation of a run (the scene's check, the run,
-  // the extrapolated scheme's half steps): each (model, s*) is minimised once per process.
-  struct Prepared { MembraneModel model; double s_star; PreparedShape shape; };
-  static std::mutex lock;
-  static std::vector<Prepared> prepared;
   {
-    std::lock_guard<std::mutex> guard(lock);
+    std::lock_guard<std::mutex> guard(prepared_lock);
     for (const Prepared& p : prepared)
       if (p.model == model && p.s_star == s_star) return p.shape;
   }
   PreparedShape shape = minimise(model, s_star);
-  std::lock_guard<std::mutex> guard(lock);
+  std::lock_guard<std::mutex> guard(prepared_lock);
   prepared.push_back({model, s_star, shape});
   return shape;
+}
+
+int shapes_minimised() {
+  std::lock_guard<std::mutex> guard(prepared_lock);
+  return int(prepared.size());
 }
 
 namespace {

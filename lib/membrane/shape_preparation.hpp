@@ -32,7 +32,11 @@ struct PreparedShape {
 };
 
 // Throws std::invalid_argument for s* outside (0, 1] or std::runtime_error if the minimiser fails.
+// Each (model, s*) is minimised once per process and kept (a run asks for the same shape in the
+// scene's check, the run and the extrapolated scheme's half steps); shapes_minimised() counts the
+// minimisations (tests).
 PreparedShape prepare_shape(const MembraneModel& model, double swelling_ratio);
+int shapes_minimised();
 
 // s*_max = (π/N) / tan(π/N): the swelling ratio of the regular N-gon whose springs are at rest.
 double max_swelling_ratio(int nodes);

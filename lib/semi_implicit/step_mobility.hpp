@@ -17,7 +17,8 @@
 // velocity columns sit differently on T_2h), so we tabulate it:
 // T_αβ(i' mod 2, i − i', j, j') = component α at node (i, j) of P A⁻¹ applied to a unit value in
 // component β at node (i', j') — one source per column parity, interior row and component
-// (4 fast solves and projections per source row j'; 8 nx (ny−1) values a row, 3.3 MB at
+// (per source row j': 2 fast solves, one per column parity, the same for either component, and
+// 4 projections; 8 nx (ny−1) values a row, 3.3 MB at
 // 320 × 160, 520 MB for all 159 rows). A source row is tabulated when first needed: matrix()
 // builds the rows under its nodes' stencils, so a run with one cell builds the rows its cell
 // visits (about 25 of the wide channel's 159 at first); the phase average below needs every row.
@@ -80,7 +81,7 @@ class StepMobility {
   // source row j' tabulated.
   double* entry(int j, int js, int di) { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
   const double* entry(int j, int js, int di) const { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
-  // T for the sources in interior row js (4 fast solves and projections), if not yet.
+  // T for the sources in interior row js (2 fast solves, 4 projections), if not yet.
   void tabulate_source_row(int js);
   ChannelMesh m_;
   ImplicitDiffusion& diffusion_;
