@@ -25,6 +25,26 @@ std::vector<double> random_vector(std::size_t n, unsigned seed) {
   return v;
 }
 
+// max |A x − b| for x = the solver's A⁻¹ b.
+double largest_residual(PeriodicBandedSolver& solver, const PeriodicBandedSolver::Operator& apply, const std::vector<double>& b) {
+  std::vector<double> x(b.size()), r(b.size());
+  solver.solve(b.data(), x.data());
+  apply(x, r);
+  double e = 0;
+  for (std::size_t k = 0; k < b.size(); ++k) e = std::max(e, std::abs(r[k] - b[k]));
+  return e;
+}
+
+// S p = B M⁻¹ Bᵀ p, M = h² (QuasiStokesProjection's apply_schur, by the same operations).
+PeriodicBandedSolver::Operator schur_complement(const ChannelMesh& m, const DivergenceStencil& B) {
+  return [&m, &B](const std::vector<double>& p, std::vector<double>& out) {
+    std::vector<double> g1, g2;
+    B.apply_transpose(p, g1, g2);
+    for (std::size_t n = 0; n < g1.size(); ++n) { g1[n] *= 1.0 / (m.h * m.h); g2[n] *= 1.0 / (m.h * m.h); }
+    B.apply(g1, g2, out);
+  };
+}
+
 TEST(FastSolvers, HelmholtzSolveMatchesSparseLU) {
   // The step-4 operator (ρh²/Δt + 4μ) I − μ (5-point neighbours), assembled here independently
   // as a sparse matrix over the interior rows, Dirichlet walls.
@@ -215,13 +235,7 @@ TEST(FastSolvers, RowsFartherApartThanTwiceTheBandAreProbedTogetherAndAWiderBand
     // With row 3 coupled, the set of row 3 finds row 0's response before the check.
     const int expected = coupled == 0 ? 6 : coupled == 3 ? 1 + 4 + rows : 1 + 4 + 1 + rows;
     EXPECT_EQ(products, expected);
-    const std::vector<double> b = random_vector(std::size_t(nx) * rows, 9);
-    std::vector<double> x(b.size()), r(b.size());
-    solver.solve(b.data(), x.data());
-    apply(x, r);
-    double e = 0;
-    for (std::size_t k = 0; k < b.size(); ++k) e = std::max(e, std::abs(r[k] - b[k]));
-    EXPECT_LT(e, 1e-13);
+    EXPECT_LT(largest_residual(solver, apply, random_vector(std::size_t(nx) * rows, 9)), 1e-13);
   }
 }
 
@@ -231,12 +245,7 @@ TEST(FastSolvers, RowsProbedTogetherGiveTheTapsOfOneProbePerRowBitForBit) {
   const ChannelMesh m = ChannelMesh::make(100e-6, 50e-6, 0.3125e-6);
   ImplicitDiffusion diffusion(m, 1000.0, 1.2e-3, 3e-6);
   const DivergenceStencil B(m);
-  auto schur = [&](const std::vector<double>& p, std::vector<double>& out) {
-    std::vector<double> g1, g2;
-    B.apply_transpose(p, g1, g2);
-    for (std::size_t n = 0; n < g1.size(); ++n) { g1[n] *= 1.0 / (m.h * m.h); g2[n] *= 1.0 / (m.h * m.h); }
-    B.apply(g1, g2, out);
-  };
+  const PeriodicBandedSolver::Operator schur = schur_complement(m, B);
   const auto helmholtz = diffusion.helmholtz_operator();
   const auto a = detail::probe_taps(m.nx, m.ny - 1, helmholtz), b = detail::probe_taps(m.nx, m.ny - 1, helmholtz, true);
   const auto c = detail::probe_taps(m.pnx(), m.pny(), schur), d = detail::probe_taps(m.pnx(), m.pny(), schur, true);
@@ -254,14 +263,8 @@ TEST(FastSolvers, ASolverFromAnotherSolversFactorsIsTheSolverOfItsOperatorBitFor
   const ChannelMesh m = ChannelMesh::make(20e-6, 10e-6, 0.3125e-6);
   ImplicitDiffusion diffusion(m, 1000.0, 1.2e-3, 3e-6);
   QuasiStokesProjection proj(m, PressurePreconditioner::schur, 1e-12, 50);
-  // S p = B M⁻¹ Bᵀ p, M = h² (QuasiStokesProjection's apply_schur).
   const DivergenceStencil B(m);
-  auto schur = [&](const std::vector<double>& p, std::vector<double>& out) {
-    std::vector<double> g1, g2;
-    B.apply_transpose(p, g1, g2);
-    for (std::size_t n = 0; n < g1.size(); ++n) { g1[n] *= 1.0 / (m.h * m.h); g2[n] *= 1.0 / (m.h * m.h); }
-    B.apply(g1, g2, out);
-  };
+  const PeriodicBandedSolver::Operator schur = schur_complement(m, B);
   struct Case { const PeriodicBandedSolver& factored; PeriodicBandedSolver::Operator apply; int nx, rows; bool constant_kernel; };
   for (const Case& c : {Case{diffusion.helmholtz(), diffusion.helmholtz_operator(), m.nx, m.ny - 1, false},
                         Case{proj.schur_solver(), schur, m.pnx(), m.pny(), true}}) {
@@ -293,13 +296,7 @@ TEST(FastSolvers, AnOperatorNotSymmetricInX1TakesTheComplexPathAndStillSolves) {
   };
   PeriodicBandedSolver solver(nx, rows, apply, false);
   EXPECT_FALSE(solver.real_symbol());
-  const std::vector<double> b = random_vector(std::size_t(nx) * rows, 4);
-  std::vector<double> x(b.size()), r(b.size());
-  solver.solve(b.data(), x.data());
-  apply(x, r);
-  double e = 0;
-  for (std::size_t k = 0; k < b.size(); ++k) e = std::max(e, std::abs(r[k] - b[k]));
-  EXPECT_LT(e, 1e-13);
+  EXPECT_LT(largest_residual(solver, apply, random_vector(std::size_t(nx) * rows, 4)), 1e-13);
 }
 
 TEST(FastSolvers, SchurComplementSolveMatchesSparseLUUpToTheConstant) {
