@@ -17,10 +17,10 @@ StepMobility::StepMobility(const ChannelMesh& mesh, ImplicitDiffusion& diffusion
     : m_(mesh), diffusion_(diffusion), projection_(projection), rho_(rho), dt_(dt), rows_(mesh.ny - 1), table_(rows_) {}
 
 void StepMobility::tabulate_source_row(int js) {
-  if (!table_[js].empty()) return;
+  if (table_[js]) return;
   const int nx = m_.nx;
   const std::size_t plane = std::size_t(nx) * rows_;
-  table_[js].resize(plane * 8);  // every value written below
+  table_[js].reset(new double[plane * 8]);  // every value written below
   VelocityField u[2] = {VelocityField(m_), VelocityField(m_)};
   std::vector<double> p(m_.pressure_nodes(), 0.0), b(plane);
   for (int parity = 0; parity < 2; ++parity) {
@@ -34,7 +34,7 @@ void StepMobility::tabulate_source_row(int js) {
       std::fill(u[beta].u2.begin(), u[beta].u2.end(), 0.0);
       std::copy(b.begin(), b.end(), (beta == 0 ? u[beta].u1 : u[beta].u2).begin() + nx);
       std::fill(p.begin(), p.end(), 0.0);
-      projection_.project(u[beta], u[beta], p, rho_, dt_, ProjectionForm::iterative);
+      projection_.project(u[beta], u[beta], p, rho_, dt_, ProjectionForm::exact);  // P as a fixed linear map
     }
     // T_αβ for this parity, the four values of an entry written together (stored by column
     // offset i − parity).
@@ -51,7 +51,7 @@ void StepMobility::tabulate_source_row(int js) {
 }
 
 int StepMobility::rows_tabulated() const {
-  return int(std::count_if(table_.begin(), table_.end(), [](const std::vector<double>& t) { return !t.empty(); }));
+  return int(std::count_if(table_.begin(), table_.end(), [](const std::unique_ptr<double[]>& t) { return t != nullptr; }));
 }
 
 std::size_t StepMobility::table_bytes() const { return std::size_t(rows_tabulated()) * 8 * m_.nx * rows_ * sizeof(double); }

@@ -40,6 +40,7 @@
 // tabulated once (prepare_phase_average) for the row and x1 distances within one cell, at h/4
 // in z, and read with linear interpolation (5.8e-4 of M̄ against the mean of M over 64 shifts,
 // 1.5e-4 at h/8 with twice the table; the blocks are only a preconditioner, in single precision).
+#include <memory>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -88,9 +89,9 @@ class StepMobility {
   QuasiStokesProjection& projection_;
   double rho_, dt_;
   int rows_;  // interior rows ny − 1
-  // T of source row j' at table_[j'][(j nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]; empty until
-  // the row is tabulated.
-  std::vector<std::vector<double>> table_;
+  // T of source row j' at table_[j'][(j nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]; null until
+  // the row is tabulated (then not cleared first: tabulate_source_row writes every value).
+  std::vector<std::unique_ptr<double[]>> table_;
   // H(j, j', z) from T and c, for any z (4 values αβ).
   void averaged_kernel(int j, int js, double z, double out[4]) const;
   double extent_ = -1;       // of the current H table
