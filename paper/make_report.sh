@@ -455,16 +455,21 @@ out="$report/README.md.tmp"
   for exp in "${run_list[@]}"; do echo "| $exp | ${exp_wall[$exp]} s (its cases' run time, one thread each, and its collect step) |"; done
   if [ "$mode" = reproduce ] && [ "$QUICK" != "1" ]; then
     echo
-    echo "u_num of the rows whose evidence runs are not part of this run, as recorded by \`make evidence\`:"
+    echo "The u_num records (reference-data/uncertainty/, written by \`make evidence\`), read for the rows whose"
+    echo "u_num this run does not measure; each record's rows by the commit and code that recorded them:"
     echo
-    echo "| record | evidence commit | its code | this run's code |"
+    echo "| record | evidence commit (rows) | its code | this run's code |"
     echo "|---|---|---|---|"
     for exp in "${run_list[@]}" disk_validation; do
       f=reference-data/uncertainty/$exp.csv
       [ -f "$f" ] || { echo "| $exp | (none: u_num not measured) | | |"; continue; }
-      ec=$(awk -F, 'NR == 2 {print $(NF - 1)}' "$f"); ek=$(awk -F, 'NR == 2 {print $NF}' "$f")
-      same=$([ "$ek" = "$code" ] && echo "the same" || echo "differs: $(git diff --shortstat "$ec" "$commit" -- "${numeric[@]}" 2>/dev/null | sed 's/^ *//')")
-      echo "| [$exp]($(realpath --relative-to="$report" "$f")) | $ec | $ek | $same |"
+      commits="" codes="" same=""
+      while read -r ec ek n; do
+        commits+="${commits:+; }$ec ($n)"
+        codes+="${codes:+; }$ek"
+        same+="${same:+; }$([ "$ek" = "$code" ] && echo "the same" || echo "differs: $(git diff --shortstat "$ec" "$commit" -- "${numeric[@]}" 2>/dev/null | sed 's/^ *//')")"
+      done < <(awk -F, 'NR > 1 {n[$(NF - 1) " " $NF]++} END {for (k in n) print k, n[k]}' "$f" | sort)
+      echo "| [$exp]($(realpath --relative-to="$report" "$f")) | $commits | $codes | $same |"
     done
   fi
   echo

@@ -20,7 +20,9 @@ void StepMobility::tabulate_source_row(int js) {
   if (table_[js]) return;
   const int nx = m_.nx;
   const std::size_t plane = std::size_t(nx) * rows_;
-  table_[js].reset(new double[plane * 8]);  // every value written below
+  // Filled before it is kept (a solve that throws leaves the row untabulated); every value written
+  // below, so not cleared first.
+  std::unique_ptr<double[]> row(new double[plane * 8]);
   VelocityField u[2] = {VelocityField(m_), VelocityField(m_)};
   std::vector<double> p(m_.pressure_nodes(), 0.0), b(plane);
   for (int parity = 0; parity < 2; ++parity) {
@@ -34,20 +36,22 @@ void StepMobility::tabulate_source_row(int js) {
       std::fill(u[beta].u2.begin(), u[beta].u2.end(), 0.0);
       std::copy(b.begin(), b.end(), (beta == 0 ? u[beta].u1 : u[beta].u2).begin() + nx);
       std::fill(p.begin(), p.end(), 0.0);
-      projection_.project(u[beta], u[beta], p, rho_, dt_, ProjectionForm::exact);  // P as a fixed linear map
+      // P as a fixed linear map (with the Schur preconditioner one fast solve, else CG from p = 0).
+      projection_.project(u[beta], u[beta], p, rho_, dt_, ProjectionForm::exact);
     }
     // T_αβ for this parity, the four values of an entry written together (stored by column
     // offset i − parity).
     for (int j = 0; j < rows_; ++j)
       for (int i = 0; i < nx; ++i) {
         const std::size_t n = std::size_t(j + 1) * nx + i;
-        double* t = entry(j, js, wrap_index(i - parity, nx)) + 4 * parity;
+        double* t = &row[offset(j, wrap_index(i - parity, nx)) + 4 * parity];
         t[0] = u[0].u1[n];  // α = 0, β = 0
         t[1] = u[1].u1[n];  // α = 0, β = 1
         t[2] = u[0].u2[n];  // α = 1, β = 0
         t[3] = u[1].u2[n];  // α = 1, β = 1
       }
   }
+  table_[js] = std::move(row);
 }
 
 int StepMobility::rows_tabulated() const {

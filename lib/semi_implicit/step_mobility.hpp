@@ -80,8 +80,9 @@ class StepMobility {
  private:
   // The 8 values (i' mod 2, α, β) at column offset di between rows j (response) and j' (source),
   // source row j' tabulated.
-  double* entry(int j, int js, int di) { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
-  const double* entry(int j, int js, int di) const { return &table_[js][(std::size_t(j) * m_.nx + di) * 8]; }
+  double* entry(int j, int js, int di) { return &table_[js][offset(j, di)]; }
+  const double* entry(int j, int js, int di) const { return &table_[js][offset(j, di)]; }
+  std::size_t offset(int j, int di) const { return (std::size_t(j) * m_.nx + di) * 8; }  // in a source row's table
   // T for the sources in interior row js (2 fast solves, 4 projections), if not yet.
   void tabulate_source_row(int js);
   ChannelMesh m_;
@@ -90,7 +91,7 @@ class StepMobility {
   double rho_, dt_;
   int rows_;  // interior rows ny − 1
   // T of source row j' at table_[j'][(j nx + (i − i')) 8 + 4 (i' mod 2) + 2α + β]; null until
-  // the row is tabulated (then not cleared first: tabulate_source_row writes every value).
+  // the row is tabulated.
   std::vector<std::unique_ptr<double[]>> table_;
   // H(j, j', z) from T and c, for any z (4 values αβ).
   void averaged_kernel(int j, int js, double z, double out[4]) const;
