@@ -20,8 +20,8 @@ import os
 H = 50e-6  # m, the channel's height (paper/method/scenes/one_cell_wide.toml)
 HERE = os.path.dirname(os.path.abspath(__file__))
 REFERENCE = "e5_exp5e-8"  # the explicit coupling at 5e-8 s
-RUNS = ["e5_exp8e-8", "x_lie6.25_q5_inc", "x_lie12.5_q10_inc", "x_lie25_q20_inc",
-        "e5_sie6.25e-6", "e5_sie1.25e-5", "e5_sie2.5e-5"]
+RUNS = ["e5_exp8e-8", "x_lie3.125_q3_inc", "x_lie6.25_q5_inc", "x_lie12.5_q10_inc", "x_lie25_q20_inc",
+        "e5_sie3.125e-6", "e5_sie6.25e-6", "e5_sie1.25e-5", "e5_sie2.5e-5"]
 
 
 def series(run):
