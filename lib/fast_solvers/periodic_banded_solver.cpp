@@ -12,6 +12,8 @@
 
 #include <omp.h>
 
+#include "mesh/channel_mesh.hpp"  // wrap_index
+
 namespace rbc {
 
 namespace {
@@ -110,7 +112,7 @@ std::vector<Tap> probe_taps(int nx, int rows, const std::function<void(const std
     apply(x, r);
     for (const Tap& t : taps)
       for (int i = 0; i < nx; ++i) {
-        const double ax = t.a * x[std::size_t(t.jp) * nx + (i - t.d + nx) % nx];
+        const double ax = t.a * x[std::size_t(t.jp) * nx + wrap_index(i - t.d, nx)];
         sum[std::size_t(t.j) * nx + i] += ax;
         bound[std::size_t(t.j) * nx + i] += std::abs(ax);
       }
