@@ -264,11 +264,11 @@ static void bench_whole_runs(int rounds) {
   std::printf("(target: a semi-implicit run at least 20 times faster than the explicit one, its centroid within 0.05 um)\n");
 }
 
-// The same one-cell case from rest to 5 ms, the accuracy-per-cost target of
-// paper/method/07_second_order_in_time.md: the centroid height within 0.05 um of the explicit run
-// at 5e-8 s in at most a tenth of the explicit run at its stability limit (8e-8 s). One round
-// (the explicit runs take minutes), the runs one after another; each run's height and whole
-// centroid off the 5e-8 s run's, and its wall time over the 8e-8 s run's.
+// The same one-cell case from rest to 5 ms against the accuracy-per-cost target of
+// paper/method/07_second_order_in_time.md ("On the wide channel"): the centroid height within
+// 0.05 um of the explicit run at 5e-8 s in at most a tenth of the explicit run at its stability
+// limit (8e-8 s). One round (the explicit runs take minutes), the runs one after another; each
+// run's height and whole centroid off the 5e-8 s run's, and its wall time over the 8e-8 s run's.
 static void bench_whole_runs_to_5ms() {
   struct Run { const char* label; std::vector<std::string> sets; };
   const std::string one_cell = "paper/method/scenes/one_cell_wide.toml";
@@ -549,7 +549,7 @@ int main(int argc, char** argv) {
   app.add_flag("--crowd-only", crowd_only, "the crowd only");
   bool whole_runs = false, to_5ms = false;
   app.add_flag("--whole-runs", whole_runs, "whole runs through run_scene: the cell-free wide channel's step and the wide one-cell case's runs");
-  app.add_flag("--to-5ms", to_5ms, "whole runs of the wide one-cell case to 5 ms: each scheme's height against its time (about 4 minutes)");
+  app.add_flag("--to-5ms", to_5ms, "whole runs of the wide one-cell case to 5 ms: each scheme's height against its time (about 3 minutes)");
   app.add_option("--crowd-steps", crowd_steps, "steps of the crowd timed")->check(CLI::Range(1, 1000000));
   app.add_option("--crowd-from", crowd_from, "start the crowd from this run folder's checkpoint (a developed flow)");
   app.add_option("--crowd-case", crowd_case, "the crowd: a case of cell_free_layer --list-cases (default n100)");
