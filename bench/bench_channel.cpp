@@ -218,15 +218,20 @@ static double whole_run(const std::string& file, const std::vector<std::string>&
   return std::chrono::duration<double>(clk::now() - t0).count();
 }
 
+// A whole run of bench_whole_runs / bench_whole_runs_to_5ms: its label and the scene's overrides.
+struct WholeRun {
+  const char* label;
+  std::vector<std::string> sets;
+};
+
 static double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 static void bench_whole_runs(int rounds) {
-  struct Run { const char* label; std::vector<std::string> sets; };
   const std::string one_cell = "paper/method/scenes/one_cell_wide.toml";
-  const std::vector<Run> runs = {
+  const std::vector<WholeRun> runs = {
       {"explicit, 5e-8 s, Q = 1", {"time.end=5e-4", "time.dt=5e-8", "time.coupling=\"explicit\"", "time.advection_substeps=1"}},
       {"semi-implicit Lie, 5e-6 s, Q = 4 (study's form)", {"time.end=5e-4", "time.dt=5e-6"}},
       {"semi-implicit Lie, 6.25e-7 s, Q = 1 (study's form)", {"time.end=5e-4", "time.dt=6.25e-7", "time.advection_substeps=1"}},
@@ -270,14 +275,13 @@ static void bench_whole_runs(int rounds) {
 // limit (8e-8 s). One round (the explicit runs take minutes), the runs one after another; each
 // run's height and whole centroid off the 5e-8 s run's, and its wall time over the 8e-8 s run's.
 static void bench_whole_runs_to_5ms() {
-  struct Run { const char* label; std::vector<std::string> sets; };
   const std::string one_cell = "paper/method/scenes/one_cell_wide.toml";
   auto semi = [](const char* dt, const char* q, bool extrapolated) {
     std::vector<std::string> s = {std::string("time.dt=") + dt, std::string("time.advection_substeps=") + q, "time.projection=\"incremental\""};
     if (extrapolated) s.push_back("time.scheme=\"lie-extrapolated\"");
     return s;
   };
-  const std::vector<Run> runs = {
+  const std::vector<WholeRun> runs = {
       {"explicit, 5e-8 s, Q = 1 (the reference)", {"time.dt=5e-8", "time.coupling=\"explicit\"", "time.advection_substeps=1"}},
       {"explicit, 8e-8 s, Q = 1 (its stability limit)", {"time.dt=8e-8", "time.coupling=\"explicit\"", "time.advection_substeps=1"}},
       {"semi-implicit Lie, 6.25e-6 s, Q = 5 (incremental)", semi("6.25e-6", "5", false)},
