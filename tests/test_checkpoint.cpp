@@ -130,7 +130,8 @@ nlohmann::json summary_without_wall_time(const fs::path& dir) {
 void expect_interrupted_equals_straight(const std::string& coupling, int cells, bool disk = false, const std::string& scheme = "lie") {
   Scene scene = two_cell_scene(coupling, cells);
   if (disk) scene.disks.push_back({{14e-6, 6e-6}, 1.5e-6});  // a rigid disk: its state is in the checkpoint too
-  scene.scheme = scheme;  // the extrapolated scheme: its half-step run's warm starts too
+  scene.scheme = scheme;  // the extrapolated scheme: its half-step run's warm starts too; BDF2: its history
+  if (scheme == "bdf2") scene.projection = "incremental";
   const std::string tag = coupling + std::to_string(cells) + (disk ? "disk" : "") + scheme;
   const fs::path straight = fs::temp_directory_path() / ("rbcflow_ckpt_straight_" + tag);
   const fs::path stopped = fs::temp_directory_path() / ("rbcflow_ckpt_stopped_" + tag);
@@ -178,6 +179,10 @@ TEST(Checkpoint, SemiImplicitCellAndRigidDiskInterruptedBySigtermAndResumedEqual
 
 TEST(Checkpoint, ExtrapolatedSchemeCellAndRigidDiskInterruptedBySigtermAndResumedEqualsTheStraightRun) {
   expect_interrupted_equals_straight("semi-implicit", 1, true, "lie-extrapolated");
+}
+
+TEST(Checkpoint, Bdf2SchemeTwoCellsInterruptedBySigtermAndResumedEqualsTheStraightRun) {
+  expect_interrupted_equals_straight("semi-implicit", 2, false, "bdf2");
 }
 
 TEST(Checkpoint, ADamagedNewestCheckpointFallsBackToThePreviousOne) {

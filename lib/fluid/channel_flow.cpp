@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace rbc {
 
@@ -25,7 +26,7 @@ ChannelFlow::ChannelFlow(const ChannelFlowParams& params)
       mesh_(ChannelMesh::make(params.length, params.height, params.mesh_size)),
       projection_(mesh_, params.preconditioner, params.cg_tolerance, params.cg_max_iterations),
       advection_(mesh_),
-      diffusion_(mesh_, params.fluid.density, params.fluid.viscosity, params.dt),
+      diffusion_(mesh_, params.fluid.density, params.fluid.viscosity, params.bdf2 ? 2.0 * params.dt / 3.0 : params.dt),
       u_(mesh_),
       pressure_(mesh_.pressure_nodes(), 0.0) {
   apply_wall_velocity();
@@ -50,16 +51,48 @@ void ChannelFlow::set_poiseuille() {
 }
 
 ProjectionReport ChannelFlow::project() {
-  if (!p_.incremental_pressure) return projection_.project(u_, u_, pressure_, p_.fluid.density, p_.dt, ProjectionForm::iterative);
-  // Incremental form: the projection's pressure is the increment φ (started from 0, its value in
-  // a steady flow); p^{n+1} = p^n + φ.
-  increment_.assign(pressure_.size(), 0.0);
-  const ProjectionReport r = projection_.project(u_, u_, increment_, p_.fluid.density, p_.dt, ProjectionForm::iterative);
-  for (std::size_t k = 0; k < pressure_.size(); ++k) pressure_[k] += increment_[k];
+  ProjectionReport r;
+  if (!p_.incremental_pressure) {
+    r = projection_.project(u_, u_, pressure_, p_.fluid.density, implicit_dt(), ProjectionForm::iterative);
+  } else {
+    // Incremental form: the projection's pressure is the increment φ (started from 0, its value in
+    // a steady flow); p^{n+1} = p^n + φ.
+    increment_.assign(pressure_.size(), 0.0);
+    r = projection_.project(u_, u_, increment_, p_.fluid.density, implicit_dt(), ProjectionForm::iterative);
+    for (std::size_t k = 0; k < pressure_.size(); ++k) pressure_[k] += increment_[k];
+  }
+  if (keep_stages_) kept_projected_ = u_;
   return r;
 }
 
-void ChannelFlow::advect() { advection_.advect(u_, u_, p_.dt, p_.advection_substeps); }
+void ChannelFlow::advect() {
+  const double dt = p_.dt;
+  const int q = p_.advection_substeps;
+  if (!p_.bdf2 || !history_) {
+    advection_.advect(u_, u_, dt, q);
+    if (keep_stages_) kept_advected_ = u_;
+    return;
+  }
+  // The BDF2 scheme's step 3: the characteristics of [tⁿ, t^{n+1}] with the velocity at t^{n+1/2},
+  // V = (3 P uⁿ − P u^{n−1})/2 (second order; divergence-free with both), carry P uⁿ to ûⁿ and
+  // û^{n−1} (P u^{n−1} as the last step carried it to tⁿ) on to t^{n+1}; step 4 starts from
+  // w = (4ûⁿ − û^{n−1})/3 (the study's wave-like method for each, with Q substeps).
+  if (advecting_.u1.empty()) advecting_ = VelocityField(mesh_);
+  for (std::size_t k = 0; k < u_.u1.size(); ++k) {
+    advecting_.u1[k] = 1.5 * u_.u1[k] - 0.5 * previous_projected_.u1[k];
+    advecting_.u2[k] = 1.5 * u_.u2[k] - 0.5 * previous_projected_.u2[k];
+  }
+  previous_projected_ = u_;                                   // P uⁿ, for the next step
+  advection_.advect(advecting_, u_, dt, q);                   // ûⁿ
+  advection_.advect(advecting_, previous_advected_, dt, q);   // û^{n−1}
+  for (std::size_t k = 0; k < u_.u1.size(); ++k) {
+    const double a1 = u_.u1[k], a2 = u_.u2[k];
+    u_.u1[k] = (4.0 * a1 - previous_advected_.u1[k]) / 3.0;
+    u_.u2[k] = (4.0 * a2 - previous_advected_.u2[k]) / 3.0;
+    previous_advected_.u1[k] = a1;                            // ûⁿ, for the next step
+    previous_advected_.u2[k] = a2;
+  }
+}
 
 void ChannelFlow::diffuse(const VelocityField* force_field) {
   const double force[2] = {p_.body_force, 0.0};
@@ -94,12 +127,30 @@ void ChannelFlow::take_state(const ChannelFlow& from) {
   t_ = from.t_;
 }
 
+void ChannelFlow::start_bdf2(const ChannelFlow& lie) {
+  if (!p_.bdf2 || lie.p_.bdf2 || !lie.keep_stages_ || lie.steps_ != 1 || lie.p_.dt != p_.dt)
+    throw std::logic_error("start_bdf2: needs a BDF2 flow and a Lie flow at the same dt after its first step, its stages kept");
+  take_state(lie);
+  steps_ = lie.steps_;
+  previous_projected_ = lie.kept_projected_;
+  previous_advected_ = lie.kept_advected_;
+  history_ = true;
+}
+
 void ChannelFlow::save(CheckpointWriter& w) const {
   w.put(u_.u1);
   w.put(u_.u2);
   w.put(pressure_);
   w.put(t_);
   w.put(std::int64_t(steps_));
+  if (p_.bdf2) {  // (only the BDF2 scheme: the other checkpoints stay as they were)
+    w.put(std::int64_t(history_));
+    if (history_)
+      for (const VelocityField* f : {&previous_projected_, &previous_advected_}) {
+        w.put(f->u1);
+        w.put(f->u2);
+      }
+  }
 }
 
 void ChannelFlow::load(CheckpointReader& r) {
@@ -108,6 +159,18 @@ void ChannelFlow::load(CheckpointReader& r) {
   pressure_ = r.get_doubles(pressure_.size(), "the pressure");
   t_ = r.get_double();
   steps_ = long(r.get_int());
+  if (p_.bdf2) {
+    history_ = r.get_int() != 0;
+    if (history_ != (steps_ > 0))
+      throw CheckpointError(r.path() + ": a BDF2 run's checkpoint after " + std::to_string(steps_) + " steps " +
+                            (history_ ? "with" : "without") + " the scheme's history");
+    if (history_)
+      for (VelocityField* f : {&previous_projected_, &previous_advected_}) {
+        *f = VelocityField(mesh_);
+        f->u1 = r.get_doubles(f->u1.size(), "the BDF2 history's velocity u1");
+        f->u2 = r.get_doubles(f->u2.size(), "the BDF2 history's velocity u2");
+      }
+  }
 }
 
 }  // namespace rbc

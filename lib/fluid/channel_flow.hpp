@@ -41,6 +41,14 @@ struct ChannelFlowParams {
   // exactly, also where step 4 imposes an obstacle's u = 0 (the study's form leaks through a
   // fixed obstacle by ≈ 12 μΔt/(ρ H²) of the flux: paper/method/05_fictitious_domain.md).
   bool incremental_pressure = false;
+  // true: the BDF2 scheme's fluid steps (paper/method/08_bdf2.md; with incremental_pressure):
+  // step 3 transports the last two projected velocities, step 4 is BDF2's,
+  //
+  //   ρ (3u^{n+1} − 4ûⁿ + û^{n−1})/(2Δt) − μΔu^{n+1} = f − ∇pⁿ,
+  //
+  // i.e. step 4's implicit diffusion at Δt' = 2Δt/3 from w = (4ûⁿ − û^{n−1})/3, and step 1
+  // projects with the same Δt'. Its first step needs the history a Lie step leaves (start_bdf2).
+  bool bdf2 = false;
   int cg_max_iterations = 200;
 };
 
@@ -55,7 +63,8 @@ class ChannelFlow {
 
   // Step 1: quasi-Stokes projection (u^{n+1/3}).
   ProjectionReport project();
-  // Step 3: wave-like advection of u by itself (u^{n+2/3}).
+  // Step 3: wave-like advection of u by itself (u^{n+2/3}); in the BDF2 scheme, of the last two
+  // projected velocities to t^{n+1} and their combination w (params().bdf2).
   void advect();
   // Step 4: implicit diffusion with the body force and an optional force field (u^{n+1});
   // advances the clock.
@@ -79,6 +88,9 @@ class ChannelFlow {
 
   const ChannelMesh& mesh() const { return mesh_; }
   const ChannelFlowParams& params() const { return p_; }
+  // The Δt of the implicit parts (step 4's diffusion, step 1's pressure scale, the semi-implicit
+  // coupling): Δt in the Lie scheme, 2Δt/3 in the BDF2 scheme (s).
+  double implicit_dt() const { return p_.bdf2 ? 2.0 * p_.dt / 3.0 : p_.dt; }
   VelocityField& velocity() { return u_; }
   const VelocityField& velocity() const { return u_; }
   const std::vector<double>& pressure() const { return pressure_; }
@@ -90,6 +102,15 @@ class ChannelFlow {
   // The extrapolated scheme (Simulation, [time] scheme = "lie-extrapolated"): u, p and the clock
   // from another flow on the same mesh.
   void take_state(const ChannelFlow& from);
+  // The BDF2 scheme's start: the state after the first step, taken by a Lie-scheme flow on the same
+  // mesh at the same Δt that kept its stages (keep_stages): u, p, the clock and step count, and
+  // as history its projected velocity u^{1/3} and that velocity advected, û⁰ (second-order
+  // accurate once: the Lie step's local error is O(Δt²)).
+  void start_bdf2(const ChannelFlow& lie);
+  // Keep the last step's projected and advected velocities (for start_bdf2).
+  void keep_stages() { keep_stages_ = true; }
+  // Whether the BDF2 scheme has its history (a start_bdf2 or a checkpoint of a BDF2 run).
+  bool has_bdf2_history() const { return history_; }
   // Checkpoints: velocity, pressure (the warm start of the next projection), clock.
   void save(CheckpointWriter& w) const;
   void load(CheckpointReader& r);
@@ -107,6 +128,10 @@ class ChannelFlow {
   VelocityField step4_force_;      // the incremental form's pressure force (+ the caller's field)
   double t_ = 0.0;
   long steps_ = 0;
+  // The BDF2 scheme's history: P u^{n−1} and û^{n−1}, that velocity advected over its step
+  // (kept_projected_, kept_advected_ hold this step's, which become them).
+  bool keep_stages_ = false, history_ = false;
+  VelocityField kept_projected_, kept_advected_, previous_projected_, previous_advected_, advecting_;
 };
 
 }  // namespace rbc

@@ -23,6 +23,9 @@ class ExplicitMembraneStep final : public MembraneCoupling {
   ExplicitMembraneStep(const ChannelMesh& mesh, const MembraneModel& model);
   // Moves every cell with u (= u^{n+1/3}) over dt and returns f_B at the new positions.
   const VelocityField& step(std::vector<Cell>& cells, const VelocityField& u, double dt) override;
+  // f_B of the cells where they are (the second half of step): (8), the repulsion, plus extra
+  // node forces (N/m) when given, one Points per cell; (10) spread.
+  const VelocityField& spread(const std::vector<Cell>& cells, const std::vector<Points>* extra = nullptr);
   // The study's coupling adds nothing after step 4.
   const VelocityField* implicit_correction(const std::vector<Cell>&, const VelocityField&) override { return nullptr; }
   ExplicitMembraneStep& membrane_move() override { return *this; }

@@ -393,7 +393,7 @@ void read_flow(const Reader& r, Scene& s) {
   s.advection_substeps = int(r.integer("time", "advection_substeps", 1, 1000, 1));
   // The pressure's form: the study's by default, the incremental one with obstacles (below).
   s.projection = r.word("time", "projection", {"study", "incremental"}, s.projection);
-  s.scheme = r.word("time", "scheme", {"lie", "lie-extrapolated"}, s.scheme);
+  s.scheme = r.word("time", "scheme", {"lie", "lie-extrapolated", "bdf2"}, s.scheme);
   s.extrapolate_pressure = r.boolean("time", "extrapolate_pressure", s.extrapolate_pressure);
   if (!s.extrapolate_pressure && s.scheme != "lie-extrapolated")
     r.fail("[time] extrapolate_pressure", "is a choice of scheme = \"lie-extrapolated\" only (the scheme here: \"" + s.scheme + "\")");
@@ -584,7 +584,15 @@ void validate_cells(const Reader& r, const Scene& s) {
 }
 
 // Δt within the advective bound, and the semi-implicit coupling's table within the memory limit.
+// The BDF2 scheme: in the incremental form of the pressure, without obstacles or disks.
 void validate_time_step(const Reader& r, const Scene& s) {
+  if (s.scheme == "bdf2") {
+    if (s.projection != "incremental")
+      r.fail("[time] scheme", "= \"bdf2\" needs [time] projection = \"incremental\" (its step 4 carries the last pressure)");
+    if (!s.obstacles.empty() || !s.disks.empty())
+      r.fail("[time] scheme", "= \"bdf2\" is for channels without [[obstacle]] or [[disk]] in this version of rbcflow "
+                              "(step 4's constraints are not derived for it); use \"lie\" or \"lie-extrapolated\"");
+  }
   // Δt must respect the advective bound of the wave-like step.
   const ChannelFlowParams fp = s.flow_params();
   if (const double bound = advective_dt_bound(fp); s.dt > bound) {
@@ -645,6 +653,7 @@ ChannelFlowParams Scene::flow_params() const {
   p.cg_tolerance = cg_tolerance;
   p.cg_max_iterations = cg_max_iterations;
   p.incremental_pressure = projection == "incremental";
+  p.bdf2 = scheme == "bdf2";
   return p;
 }
 

@@ -95,7 +95,9 @@ struct Scene {
   // The time integration: "lie", the study's Lie scheme, one step a step (first order);
   // "lie-extrapolated", each step that Lie step and two of half its Δt, extrapolated
   // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order with projection "incremental", about 1.4 with the
-  // study's form; not in the study: paper/method/07_second_order_in_time.md).
+  // study's form; not in the study: paper/method/07_second_order_in_time.md); "bdf2", the same
+  // steps in BDF2's form, one Lie step to start (second order, with projection "incremental";
+  // channels without obstacles or disks; not in the study: paper/method/08_bdf2.md).
   std::string scheme = "lie";
   // In "lie-extrapolated": whether the pressure is extrapolated with the rest of the state (true)
   // or taken from the two half steps (false: an evidence run of chapter 7, where extrapolating it

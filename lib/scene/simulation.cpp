@@ -7,6 +7,7 @@
 
 #include "diagnostics/flow_diagnostics.hpp"
 #include "membrane/membrane_crossing.hpp"
+#include "membrane/membrane_stiffness.hpp"
 
 namespace rbc {
 
@@ -73,6 +74,11 @@ void Simulation::build_cells() {
 //
 // the first-order error of L cancels, and its L-stable damping of stiff modes stays.
 void Simulation::step() {
+  if (scene_.scheme == "bdf2") {
+    if (flow_.has_bdf2_history()) bdf2_step();
+    else start_bdf2();
+    return;
+  }
   if (!half_step_) {
     lie_step();
     return;
@@ -88,6 +94,117 @@ void Simulation::step() {
   extrapolate_with(*half_step_);
   // A half step's pressure CG that stopped short stops the run as the step's own would (check_health).
   if (!half_step_->last_projection_.converged) last_projection_ = half_step_->last_projection_;
+}
+
+// The BDF2 scheme (paper/method/08_bdf2.md). Its fluid steps are ChannelFlow's in BDF2 form
+// (ChannelFlowParams::bdf2); its step 2 moves the nodes by BDF2 with the velocity of tⁿ,
+//
+//   sⁿ = s̃^{n−1} + Δt' J(s_e) P uⁿ,   s̃^{n−1} = (4 s^{n−1} − s^{n−2})/3,   Δt' = 2Δt/3,
+//
+// J taken at s_e = 2 s^{n−1} − s^{n−2} (within O(Δt²) of sⁿ), and step 4 takes the force at the
+// nodes' next positions s^{n+1} = s̃ⁿ + Δt' J P u^{n+1}, J, S and K at s_e = 2 sⁿ − s^{n−1}:
+//
+//   F(s^{n+1}) ≈ F(s_e) + K (s_e − s̃ⁿ) − Δt' K J P u^{n+1},
+//
+// the last term the semi-implicit coupling's (at Δt'); the explicit coupling takes F(s_e) alone.
+// Step 4 receives the divergence-free part P f_B of the spread force: its gradient part, a
+// pressure jump across each membrane that moves with it, would otherwise enter the pressure that
+// the incremental form carries from step to step, and its splitting error with it (first order:
+// the chapter's runs). That part's pressure, p_B, is the membranes' share of the pressure
+// (pressure_with_membranes).
+void Simulation::bdf2_step() {
+  last_projection_ = flow_.step([this] { return bdf2_membrane_step(); });  // (1), (2), (3), (4) in BDF2 form
+  if (coupling_) coupling_after_step4();
+}
+
+void Simulation::start_bdf2() {
+  // The first step is the extrapolated Lie step (chapter 7), taken by the same scene in that
+  // scheme from this state: its velocity, too, is within O(Δt²) of the flow's at t¹ (the Lie
+  // step's is not: its step 4 takes the spring force where the nodes will be a step later, and
+  // that first-order error, remembered by the fluid for about ρH²/μ, would leave the scheme first
+  // order). It leaves s⁰ (the nodes now), s¹ (its nodes) and the fluid's history
+  // (ChannelFlow::start_bdf2).
+  Scene first = scene_;
+  first.scheme = "lie-extrapolated";
+  Simulation start(first, options_);
+  start.take_state(*this);
+  start.flow_.keep_stages();
+  try {
+    start.step();
+  } catch (const RunFailure& e) {
+    throw RunFailure(std::string(e.what()) + " (in the extrapolated Lie step that starts the BDF2 scheme)");
+  }
+  bdf_last_.resize(cells_.size());
+  bdf_tilde_.resize(cells_.size());
+  for (std::size_t k = 0; k < cells_.size(); ++k) {
+    bdf_last_[k] = cells_[k].nodes;
+    cells_[k].nodes = start.cells_[k].nodes;
+  }
+  bdf_move_known_ = true;
+  flow_.start_bdf2(start.flow_);
+  last_projection_ = start.last_projection_;
+  repulsion_steps_ += start.repulsion_steps_;
+}
+
+const VelocityField* Simulation::bdf2_membrane_step() {
+  if (!coupling_) return nullptr;
+  const ChannelMesh& mesh = flow_.mesh();
+  const VelocityField& u = flow_.velocity();  // P uⁿ
+  const double dt = flow_.implicit_dt();      // Δt'
+  const bool implicit = scene_.coupling == "semi-implicit";
+  const int n = int(cells_.size());
+  bdf_extra_force_.resize(cells_.size());
+#pragma omp parallel if (n > 1)
+  {
+    Points U, s;
+#pragma omp for schedule(static)
+    for (int k = 0; k < n; ++k) {
+      Points& r = cells_[k].nodes;  // s_e, or s¹ after the start
+      const std::size_t N = r.size();
+      if (bdf_move_known_) {
+        s = r;
+      } else {
+        interpolate_velocity(mesh, u, r, U);
+        s.resize(N);
+        for (std::size_t i = 0; i < N; ++i) s[i] = bdf_tilde_[k][i] + dt * U[i];  // sⁿ
+      }
+      Points& last = bdf_last_[k];
+      Points& tilde = bdf_tilde_[k];
+      tilde.resize(N);
+      for (std::size_t i = 0; i < N; ++i) {
+        tilde[i] = (4.0 * s[i] - last[i]) / 3.0;  // s̃ⁿ
+        r[i] = 2.0 * s[i] - last[i];              // s_e
+      }
+      last = s;
+      if (implicit) {  // K (s_e − s̃ⁿ) at s_e
+        Eigen::VectorXd d(2 * N);
+        for (std::size_t i = 0; i < N; ++i) d.segment<2>(2 * i) = r[i] - tilde[i];
+        const Cell& c = cells_[k];
+        const Eigen::VectorXd f = membrane_stiffness(c.kb_scale == 1 ? model_ : model_of(model_, c.kb_scale), r, c.target_area).apply(d);
+        bdf_extra_force_[k].resize(N);
+        for (std::size_t i = 0; i < N; ++i) bdf_extra_force_[k][i] = f.segment<2>(2 * i);
+      }
+    }
+  }
+  bdf_move_known_ = false;
+  ExplicitMembraneStep& spread = coupling_->membrane_move();
+  const VelocityField& f_B = spread.spread(cells_, implicit ? &bdf_extra_force_ : nullptr);
+  if (scene_.repulsion_strength > 0) {
+    const RepulsionCount& c = spread.last_repulsion();
+    if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
+  }
+  // P f_B = f_B − ∇p_B (the projection's exact form with Δt/ρ = 1 s·m³/kg: p_B in Pa).
+  if (bdf_force_.u1.empty()) bdf_force_ = VelocityField(mesh);
+  bdf_force_pressure_.assign(mesh.pressure_nodes(), 0.0);
+  flow_.projection().project(f_B, bdf_force_, bdf_force_pressure_, 1.0, 1.0, ProjectionForm::exact);
+  return &bdf_force_;
+}
+
+std::vector<double> Simulation::pressure_with_membranes() const {
+  std::vector<double> p = flow_.pressure();
+  if (bdf_force_pressure_.size() == p.size())
+    for (std::size_t k = 0; k < p.size(); ++k) p[k] += bdf_force_pressure_[k];
+  return p;
 }
 
 void Simulation::take_state(const Simulation& from) {
@@ -347,6 +464,14 @@ void Simulation::save(CheckpointWriter& w) const {
   }
   if (scene_.repulsion_strength > 0) w.put(std::int64_t(repulsion_steps_));  // (only scenes with the repulsion)
   if (half_step_) half_step_->save(w);  // its solvers' warm starts (only the extrapolated scheme)
+  if (scene_.scheme == "bdf2") {         // the nodes' history (empty before the first step)
+    w.put(std::int64_t(bdf_move_known_));
+    w.put(std::int64_t(bdf_last_.size()));
+    for (std::size_t k = 0; k < bdf_last_.size(); ++k) {
+      w.put(bdf_last_[k]);
+      w.put(bdf_tilde_[k]);
+    }
+  }
 }
 
 void Simulation::load(CheckpointReader& r) {
@@ -385,6 +510,19 @@ void Simulation::load(CheckpointReader& r) {
                             std::to_string(steps()) + "]");
   }
   if (half_step_) half_step_->load(r);
+  if (scene_.scheme == "bdf2") {
+    bdf_move_known_ = r.get_int() != 0;
+    const std::int64_t m = r.get_int();
+    if (m != (steps() > 0 ? std::int64_t(cells_.size()) : 0))
+      throw CheckpointError(r.path() + ": holds the BDF2 history of " + std::to_string(m) + " cells after " + std::to_string(steps()) +
+                            " steps; the scene has " + std::to_string(cells_.size()) + " cells");
+    bdf_last_.resize(std::size_t(m));
+    bdf_tilde_.resize(std::size_t(m));
+    for (std::size_t k = 0; k < bdf_last_.size(); ++k) {
+      bdf_last_[k] = r.get_points(cells_[k].nodes.size(), "the BDF2 history of a cell");
+      bdf_tilde_[k] = r.get_points(cells_[k].nodes.size(), "the BDF2 history of a cell");
+    }
+  }
 }
 
 void Simulation::place_cell(std::size_t k, const Points& nodes) {

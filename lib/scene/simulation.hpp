@@ -1,6 +1,7 @@
 #pragma once
 // A scene in motion: the parts of the method the scene needs, advanced by the study's Lie scheme
-// (or its extrapolation to second order, [time] scheme = "lie-extrapolated").
+// (or, to second order, its extrapolation, [time] scheme = "lie-extrapolated", or the BDF2 form of
+// its steps, "bdf2").
 // A cell-free channel composes the fluid alone (no membrane code); cells add the membrane step.
 #include <memory>
 #include <string>
@@ -55,7 +56,8 @@ class Simulation {
   // L_Δt, or ("lie-extrapolated", paper/method/07_second_order_in_time.md) its local Richardson
   // extrapolation Xⁿ⁺¹ = 2 L_{Δt/2}(L_{Δt/2}(Xⁿ)) − L_Δt(Xⁿ), X = (u, p, membrane nodes, disks).
   // The counters (contact and repulsion steps, coupling iterations, the coupling's cost) are the
-  // L_Δt step's; the half steps keep their own.
+  // L_Δt step's; the half steps keep their own. Or ("bdf2", paper/method/08_bdf2.md) the same
+  // steps in BDF2's form, started by one Lie step.
   void step();
   // The fluid as the developed cell-free profile instead of rest (the study starts from rest;
   // benchmarks use this to time steps in a flow that moves the cells as a long run does).
@@ -78,6 +80,9 @@ class Simulation {
   ChannelFlow& flow() { return flow_; }
   const Scene& scene() const { return scene_; }
   const std::vector<Cell>& cells() const { return cells_; }
+  // The pressure (Pa, on the pressure nodes): the flow's, and in the BDF2 scheme plus the
+  // membranes' share p_B that its step 4 leaves out of the flow's (simulation.cpp).
+  std::vector<double> pressure_with_membranes() const;
   const MembraneModel& membrane() const { return model_; }
   double time() const { return flow_.time(); }
   long steps() const { return flow_.steps(); }
@@ -121,6 +126,16 @@ class Simulation {
   // [time] scheme = "lie-extrapolated": the same scene at Δt/2 (its scheme "lie"), which takes
   // this run's state before each step and runs two steps (null: the study's scheme).
   std::unique_ptr<Simulation> half_step_;
+  // [time] scheme = "bdf2" (paper/method/08_bdf2.md): the nodes' history, per cell, s^{n−1}
+  // (the last positions step 2 found) and s̃^{n−1} = (4 s^{n−1} − s^{n−2})/3; the cells' nodes
+  // themselves hold the extrapolated 2 s^{n−1} − s^{n−2}, the positions at tⁿ.
+  std::vector<Points> bdf_last_, bdf_tilde_, bdf_extra_force_;
+  VelocityField bdf_force_;                 // P f_B, step 4's force density
+  std::vector<double> bdf_force_pressure_;  // p_B, its gradient part's pressure (Pa)
+  bool bdf_move_known_ = false;  // after the Lie start: s¹ is the start's, no move in the next step 2
+  void start_bdf2();              // the first step: the study's Lie step, which leaves BDF2 its history
+  void bdf2_step();               // the next ones
+  const VelocityField* bdf2_membrane_step();
   void take_state(const Simulation& from);       // u, p, clock, membrane nodes, disks
   void extrapolate_with(const Simulation& finer);  // that state ← 2 (finer's) − (this one's)
   // One step of the study's Lie scheme; its parts, in its order.

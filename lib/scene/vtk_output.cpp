@@ -12,10 +12,9 @@ namespace rbc {
 
 namespace fs = std::filesystem;
 
-VtkImage fluid_image(const ChannelFlow& flow) {
+VtkImage fluid_image(const ChannelFlow& flow, const std::vector<double>& p) {
   const ChannelMesh& m = flow.mesh();
   const VelocityField& u = flow.velocity();
-  const std::vector<double>& p = flow.pressure();
   VtkImage im;
   im.nx = m.nx + 1;  // the column x1 = L repeats x1 = 0 (periodic)
   im.ny = m.ny + 1;
@@ -160,7 +159,7 @@ void VtkSeries::write() {
     entries_.push_back({t, part, file});
     return (dir_ / file).string();
   };
-  write_vti(put(0, "flow" + std::string(index) + ".vti"), fluid_image(sim_.flow()), t);
+  write_vti(put(0, "flow" + std::string(index) + ".vti"), fluid_image(sim_.flow(), sim_.pressure_with_membranes()), t);
   if (!sim_.cells().empty())
     write_vtp(put(1, "membranes" + std::string(index) + ".vtp"), membranes_polydata(sim_.cells(), sim_.membrane(), s.length), t);
   if (!sim_.disks().empty()) write_vtp(put(2, "disks" + std::string(index) + ".vtp"), disks_polydata(sim_.disks(), s.length), t);

@@ -45,7 +45,8 @@ class VtkSeries {
 };
 
 // The datasets themselves (for tests): the fluid, the membranes, the disks, the obstacles.
-VtkImage fluid_image(const ChannelFlow& flow);
+// fluid_image: u and p (Pa, on the pressure nodes: the Simulation's pressure_with_membranes()).
+VtkImage fluid_image(const ChannelFlow& flow, const std::vector<double>& pressure);
 VtkPolyData membranes_polydata(const std::vector<Cell>& cells, const MembraneModel& model, double length);
 VtkPolyData disks_polydata(const std::vector<Disk>& disks, double length);
 VtkPolyData obstacles_polydata(const std::vector<Obstacle>& obstacles);

@@ -16,14 +16,14 @@ SemiImplicitMembraneStep::SemiImplicitMembraneStep(ChannelFlow& flow, const Memb
       tolerance_(tolerance),
       mesh_(flow.mesh()),
       model_(model),
-      dt_(flow.params().dt),
+      dt_(flow.implicit_dt()),
       projected_(flow.mesh()),
       pressure_(flow.mesh().pressure_nodes(), 0.0),
       exact_pressure_(flow.mesh().pressure_nodes(), 0.0),
       move_(flow.mesh(), model),
-      mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.params().dt),
+      mobility_(flow.mesh(), flow.diffusion(), flow.projection(), flow.params().fluid.density, flow.implicit_dt()),
       correction_(flow.mesh()),
-      preconditioner_(mobility_, model, flow.params().dt, options.turn_blocks),
+      preconditioner_(mobility_, model, flow.implicit_dt(), options.turn_blocks),
       options_(options),
       work_(flow.mesh()) {}
 

@@ -19,6 +19,8 @@
 // and u^{n+1} = u⁰ + A⁻¹ S (−Δt K U): one more fast solve per step, a product's (with several
 // cells not even that: U is a combination of GMRES's product arguments, whose responses A⁻¹ S K z
 // it keeps).
+// (Δt here and in A is the flow's implicit_dt(): Δt, or 2Δt/3 in the BDF2 scheme, whose step 2
+// and explicit force differ: paper/method/08_bdf2.md.)
 // With M and K positive semi-definite
 // every membrane mode is damped like backward Euler, whatever Δt: the stable Δt is set by the
 // flow (the advective bound), not by k_l and k_b. With several cells the system couples them
