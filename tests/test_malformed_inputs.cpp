@@ -118,6 +118,8 @@ std::vector<Case> corpus() {
       {"bdf2 in the study's form of the pressure", kGood + "scheme = \"bdf2\"\n", run, 2, {"[time] scheme", "projection = \"incremental\""}},
       {"bdf2 with an obstacle", kGood + "scheme = \"bdf2\"\n[[obstacle]]\nx = [4e-6, 6e-6]\ny = [0.0, 3e-6]\n", run, 2,
        {"[time] scheme", "without [[obstacle]] or [[disk]]"}},
+      {"bdf2 with a disk", kGood + "scheme = \"bdf2\"\n[[disk]]\ncenter = [15e-6, 5e-6]\nradius = 2e-6\n", run, 2,
+       {"[time] scheme", "without [[obstacle]] or [[disk]]"}},
       {"disk boundary spacing below h", kGood + "[solver]\ndisk_boundary_spacing = 0.5\n", run, 2,
        {"[solver] disk_boundary_spacing", "out of range"}},
       {"misspelt preconditioner", kGood + "[solver]\npressure_preconditioner = \"shur\"\n", run, 2, {"did you mean 'schur'"}},

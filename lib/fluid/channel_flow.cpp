@@ -26,7 +26,7 @@ ChannelFlow::ChannelFlow(const ChannelFlowParams& params)
       mesh_(ChannelMesh::make(params.length, params.height, params.mesh_size)),
       projection_(mesh_, params.preconditioner, params.cg_tolerance, params.cg_max_iterations),
       advection_(mesh_),
-      diffusion_(mesh_, params.fluid.density, params.fluid.viscosity, params.bdf2 ? 2.0 * params.dt / 3.0 : params.dt),
+      diffusion_(mesh_, params.fluid.density, params.fluid.viscosity, implicit_dt()),
       u_(mesh_),
       pressure_(mesh_.pressure_nodes(), 0.0) {
   apply_wall_velocity();

@@ -47,7 +47,8 @@ struct ChannelFlowParams {
   //   ρ (3u^{n+1} − 4ûⁿ + û^{n−1})/(2Δt) − μΔu^{n+1} = f − ∇pⁿ,
   //
   // i.e. step 4's implicit diffusion at Δt' = 2Δt/3 from w = (4ûⁿ − û^{n−1})/3, and step 1
-  // projects with the same Δt'. Its first step needs the history a Lie step leaves (start_bdf2).
+  // projects with the same Δt'. Its first step needs the history another scheme's first step
+  // leaves (start_bdf2; Simulation takes the extrapolated Lie step).
   bool bdf2 = false;
   int cg_max_iterations = 200;
 };
@@ -102,10 +103,10 @@ class ChannelFlow {
   // The extrapolated scheme (Simulation, [time] scheme = "lie-extrapolated"): u, p and the clock
   // from another flow on the same mesh.
   void take_state(const ChannelFlow& from);
-  // The BDF2 scheme's start: the state after the first step, taken by a Lie-scheme flow on the same
-  // mesh at the same Δt that kept its stages (keep_stages): u, p, the clock and step count, and
-  // as history its projected velocity u^{1/3} and that velocity advected, û⁰ (second-order
-  // accurate once: the Lie step's local error is O(Δt²)).
+  // The BDF2 scheme's start: the state after the first step, taken by a flow in the Lie form on
+  // the same mesh at the same Δt that kept its stages (keep_stages): u, p, the clock and step
+  // count, and as history its projected velocity P u⁰ and that velocity advected to t¹, û⁰ (with
+  // an error O(Δt²), once). The first step's own accuracy is the caller's (Simulation::start_bdf2).
   void start_bdf2(const ChannelFlow& lie);
   // Keep the last step's projected and advected velocities (for start_bdf2).
   void keep_stages() { keep_stages_ = true; }

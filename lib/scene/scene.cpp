@@ -587,11 +587,11 @@ void validate_cells(const Reader& r, const Scene& s) {
 // The BDF2 scheme: in the incremental form of the pressure, without obstacles or disks.
 void validate_time_step(const Reader& r, const Scene& s) {
   if (s.scheme == "bdf2") {
-    if (s.projection != "incremental")
-      r.fail("[time] scheme", "= \"bdf2\" needs [time] projection = \"incremental\" (its step 4 carries the last pressure)");
     if (!s.obstacles.empty() || !s.disks.empty())
       r.fail("[time] scheme", "= \"bdf2\" is for channels without [[obstacle]] or [[disk]] in this version of rbcflow "
                               "(step 4's constraints are not derived for it); use \"lie\" or \"lie-extrapolated\"");
+    if (s.projection != "incremental")
+      r.fail("[time] scheme", "= \"bdf2\" needs [time] projection = \"incremental\" (its step 4 carries the last pressure)");
   }
   // Δt must respect the advective bound of the wave-like step.
   const ChannelFlowParams fp = s.flow_params();

@@ -96,7 +96,7 @@ struct Scene {
   // "lie-extrapolated", each step that Lie step and two of half its Δt, extrapolated
   // 2 L_{Δt/2} L_{Δt/2} − L_Δt (second order with projection "incremental", about 1.4 with the
   // study's form; not in the study: paper/method/07_second_order_in_time.md); "bdf2", the same
-  // steps in BDF2's form, one Lie step to start (second order, with projection "incremental";
+  // steps in BDF2's form, one extrapolated Lie step to start (second order, with projection "incremental";
   // channels without obstacles or disks; not in the study: paper/method/08_bdf2.md).
   std::string scheme = "lie";
   // In "lie-extrapolated": whether the pressure is extrapolated with the rest of the state (true)

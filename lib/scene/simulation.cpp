@@ -37,6 +37,10 @@ Simulation::Simulation(const Scene& scene, const CouplingOptions& options)
     flow_.diffusion().set_constraint(disk_constraint_.get());
     if (coupling_) coupling_->set_fluid_not_x1_invariant();
   }
+  // The BDF2 scheme: derived for the incremental form without obstacles or disks (the scene
+  // reader refuses the others; so do we, for scenes built in code).
+  if (scene.scheme == "bdf2" && (!flow_.params().incremental_pressure || obstacles_ || disk_constraint_))
+    throw std::invalid_argument("Simulation: [time] scheme = \"bdf2\" needs projection = \"incremental\" and no obstacles or disks");
   // The extrapolated scheme's half steps: the same scene at Δt/2, Q kept (every part of the step
   // refined, the advection's substeps too), run by the study's scheme.
   if (scene.scheme == "lie-extrapolated") {
@@ -138,6 +142,7 @@ void Simulation::start_bdf2() {
   bdf_tilde_.resize(cells_.size());
   for (std::size_t k = 0; k < cells_.size(); ++k) {
     bdf_last_[k] = cells_[k].nodes;
+    bdf_tilde_[k] = cells_[k].nodes;  // (not read while the move is known: the next step finds it)
     cells_[k].nodes = start.cells_[k].nodes;
   }
   bdf_move_known_ = true;
@@ -180,7 +185,7 @@ const VelocityField* Simulation::bdf2_membrane_step() {
         Eigen::VectorXd d(2 * N);
         for (std::size_t i = 0; i < N; ++i) d.segment<2>(2 * i) = r[i] - tilde[i];
         const Cell& c = cells_[k];
-        const Eigen::VectorXd f = membrane_stiffness(c.kb_scale == 1 ? model_ : model_of(model_, c.kb_scale), r, c.target_area).apply(d);
+        const Eigen::VectorXd f = membrane_stiffness(model_of(model_, c.kb_scale), r, c.target_area).apply(d);
         bdf_extra_force_[k].resize(N);
         for (std::size_t i = 0; i < N; ++i) bdf_extra_force_[k][i] = f.segment<2>(2 * i);
       }
@@ -189,10 +194,7 @@ const VelocityField* Simulation::bdf2_membrane_step() {
   bdf_move_known_ = false;
   ExplicitMembraneStep& spread = coupling_->membrane_move();
   const VelocityField& f_B = spread.spread(cells_, implicit ? &bdf_extra_force_ : nullptr);
-  if (scene_.repulsion_strength > 0) {
-    const RepulsionCount& c = spread.last_repulsion();
-    if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
-  }
+  count_repulsion();
   // P f_B = f_B − ∇p_B (the projection's exact form with Δt/ρ = 1 s·m³/kg: p_B in Pa).
   if (bdf_force_.u1.empty()) bdf_force_ = VelocityField(mesh);
   bdf_force_pressure_.assign(mesh.pressure_nodes(), 0.0);
@@ -266,12 +268,15 @@ const VelocityField* Simulation::membrane_step() {
   const VelocityField* f_B = nullptr;
   if (coupling_) {  // (the scene has cells)
     f_B = &coupling_->step(cells_, flow_.velocity(), scene_.dt);
-    if (scene_.repulsion_strength > 0) {  // count the steps in which the repulsion acted
-      const RepulsionCount& c = coupling_->membrane_move().last_repulsion();
-      if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
-    }
+    count_repulsion();
   }
   return disk_constraint_ ? add_contact_forces(f_B) : f_B;
+}
+
+void Simulation::count_repulsion() {
+  if (scene_.repulsion_strength <= 0) return;  // count the steps in which the repulsion acted
+  const RepulsionCount& c = coupling_->membrane_move().last_repulsion();
+  if (c.wall_nodes + c.node_pairs > 0) ++repulsion_steps_;
 }
 
 void Simulation::coupling_after_step4() {
@@ -512,6 +517,9 @@ void Simulation::load(CheckpointReader& r) {
   if (half_step_) half_step_->load(r);
   if (scene_.scheme == "bdf2") {
     bdf_move_known_ = r.get_int() != 0;
+    if (bdf_move_known_ != (steps() == 1))
+      throw CheckpointError(r.path() + ": a BDF2 run's checkpoint after " + std::to_string(steps()) + " steps whose nodes' history " +
+                            (bdf_move_known_ ? "is the start's" : "is not the start's"));
     const std::int64_t m = r.get_int();
     if (m != (steps() > 0 ? std::int64_t(cells_.size()) : 0))
       throw CheckpointError(r.path() + ": holds the BDF2 history of " + std::to_string(m) + " cells after " + std::to_string(steps()) +

@@ -57,7 +57,7 @@ class Simulation {
   // extrapolation Xⁿ⁺¹ = 2 L_{Δt/2}(L_{Δt/2}(Xⁿ)) − L_Δt(Xⁿ), X = (u, p, membrane nodes, disks).
   // The counters (contact and repulsion steps, coupling iterations, the coupling's cost) are the
   // L_Δt step's; the half steps keep their own. Or ("bdf2", paper/method/08_bdf2.md) the same
-  // steps in BDF2's form, started by one Lie step.
+  // steps in BDF2's form, started by one extrapolated Lie step.
   void step();
   // The fluid as the developed cell-free profile instead of rest (the study starts from rest;
   // benchmarks use this to time steps in a flow that moves the cells as a long run does).
@@ -81,7 +81,8 @@ class Simulation {
   const Scene& scene() const { return scene_; }
   const std::vector<Cell>& cells() const { return cells_; }
   // The pressure (Pa, on the pressure nodes): the flow's, and in the BDF2 scheme plus the
-  // membranes' share p_B that its step 4 leaves out of the flow's (simulation.cpp).
+  // membranes' share p_B that its step 4 leaves out of the flow's (simulation.cpp), as the last
+  // step found it (not in checkpoints: a resumed run has it after its first step).
   std::vector<double> pressure_with_membranes() const;
   const MembraneModel& membrane() const { return model_; }
   double time() const { return flow_.time(); }
@@ -133,7 +134,7 @@ class Simulation {
   VelocityField bdf_force_;                 // P f_B, step 4's force density
   std::vector<double> bdf_force_pressure_;  // p_B, its gradient part's pressure (Pa)
   bool bdf_move_known_ = false;  // after the Lie start: s¹ is the start's, no move in the next step 2
-  void start_bdf2();              // the first step: the study's Lie step, which leaves BDF2 its history
+  void start_bdf2();              // the first step: the extrapolated Lie step, which leaves BDF2 its history
   void bdf2_step();               // the next ones
   const VelocityField* bdf2_membrane_step();
   void take_state(const Simulation& from);       // u, p, clock, membrane nodes, disks
@@ -143,6 +144,7 @@ class Simulation {
   void hold_disks_where_they_will_be();
   const VelocityField* membrane_step();  // step 4's force density: f_B and the disks' contact forces (null: none)
   void coupling_after_step4();  // what the cells' coupling adds to u^{n+1} (the semi-implicit one's correction)
+  void count_repulsion();       // after step 2: one more step in which the membrane repulsion acted, if it did
   void move_disks();
   ProjectionReport last_projection_;
   double speed_excess_time_ = 0;  // s the fluid has spent above kMaxSpeedRatio × the flow's peak (check_health)
