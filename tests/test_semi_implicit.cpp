@@ -418,8 +418,8 @@ TEST(SemiImplicitValidationExperiment, TheExtrapolatedLieSchemeIsSecondOrderInDt
 
 TEST(SemiImplicitValidationExperiment, TheBdf2SchemeIsSecondOrderInDt) {
   // The same in the BDF2 scheme ([time] scheme = "bdf2", paper/method/08_bdf2.md): claim, observed
-  // order 1.6 … 2.6 in the whole and in x1. Measured when written: 1.89 (x1 1.91; x2 1.63; from
-  // 2, 4, 8e-7 s, printed second, 1.50). The run at 8e-7 s is the chapter's too (its variants).
+  // order 1.6 … 2.6 in the whole and in x1 (the claim of the test above). The orders from 2, 4,
+  // 8e-7 s are printed second: chapter 8's variants read that run too.
   const Scene s = second_order_scene("semi-implicit", "bdf2");
   const Eigen::Vector2d e1 = centroid_at_end(s, 1e-7), e2 = centroid_at_end(s, 2e-7), e4 = centroid_at_end(s, 4e-7);
   const Eigen::Vector3d o = observed_orders(e1, e2, e4);
@@ -434,7 +434,7 @@ TEST(SemiImplicitValidationExperiment, TheBdf2SchemeWithTheExplicitCouplingReach
   // second_order_scene in the BDF2 scheme with the study's explicit coupling (the force F(s_e)
   // alone, paper/method/08_bdf2.md) at 2.5e-8 s, against the semi-implicit coupling's BDF2 run at
   // 1e-7 s: claim, the centroids agree within 3e-4 um (the semi-implicit run's change from 2e-7 s,
-  // 2.2e-4 um in the test above, bounds its own error at second order). Measured: 6.9e-5 um.
+  // 2.2e-4 um in the test above, bounds its own error at second order).
   const Eigen::Vector2d e = centroid_at_end(second_order_scene("explicit", "bdf2"), 2.5e-8);
   const Eigen::Vector2d si = centroid_at_end(second_order_scene("semi-implicit", "bdf2"), 1e-7);
   std::printf("centroid at 0.1 ms (um): explicit BDF2 (%.6f, %.6f), semi-implicit BDF2 (%.6f, %.6f); distance %.2e um\n", e.x() * 1e6,
